@@ -1,0 +1,54 @@
+// A static 3D kd-tree over a set of points: nearest neighbour, k nearest, and radius queries.
+// Built once, queried many times (symmetry scores, density checks, ICP correspondences); it keeps a
+// reference to the points, which must outlive it.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "toolinc/core/point_cloud.hpp"
+
+namespace toolinc {
+
+class KdTree {
+ public:
+  explicit KdTree(const Points& points, int leaf_size = 12);
+
+  struct Neighbor {
+    std::uint32_t index;
+    double distance2;
+  };
+
+  // The nearest point within max_distance; index == npos when there is none.
+  Neighbor nearest(const Vec3& query, double max_distance = std::numeric_limits<double>::infinity()) const;
+  // Up to k nearest, sorted by distance.
+  std::vector<Neighbor> knn(const Vec3& query, int k) const;
+  // Indices of all points within radius (unsorted).
+  void radius(const Vec3& query, double radius, std::vector<std::uint32_t>& out) const;
+  // How many points lie within radius, stopping early once `enough` have been found.
+  std::size_t count_within(const Vec3& query, double radius,
+                           std::size_t enough = std::numeric_limits<std::size_t>::max()) const;
+
+  const Points& points() const { return points_; }
+  static constexpr std::uint32_t npos = std::numeric_limits<std::uint32_t>::max();
+
+ private:
+  struct Node {
+    // Leaf when split_dim < 0: indices [begin, end). Inner: children at left/right.
+    std::uint32_t begin, end;
+    std::int32_t left, right;
+    int split_dim;
+    double split_value;
+  };
+  std::int32_t build(std::uint32_t begin, std::uint32_t end, int leaf_size);
+  template <typename Visit>
+  void search(const Vec3& query, double& bound2, Visit&& visit) const;
+
+  const Points& points_;
+  std::vector<std::uint32_t> order_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace toolinc

@@ -1,0 +1,41 @@
+// The conventions every executable shares (design.md): --help, --version, -o/--output, -c/--config
+// (JSON with the same keys as the long options; the command line wins), -v/-q, logging to stderr, and
+// exit codes 0 ok, 2 bad usage or input, 3 method failed on valid input, 1 internal error.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace toolinc {
+
+class Command {
+ public:
+  // config_sections: the sections of a config file this command reads, in order (later ones win);
+  // by default the command's own name. Top-level keys of the file are always read.
+  Command(std::string name, std::string description, std::vector<std::string> config_sections = {});
+
+  CLI::App& cli() { return cli_; }
+  const std::string& name() const { return name_; }
+  // The value of -o/--output ("-" is standard output); registered when the command asks for it.
+  const std::string& output() const { return output_; }
+  CLI::Option* add_output(const std::string& description, bool required = true);
+
+  // The command line as one string, for provenance comments in outputs.
+  const std::string& command_line() const { return command_line_; }
+
+  // Parses argv, sets up logging, runs body and maps exceptions to exit codes.
+  int run(int argc, char** argv, const std::function<void()>& body);
+
+ private:
+  std::string name_;
+  CLI::App cli_;
+  std::string output_;
+  std::string config_file_;
+  std::string command_line_;
+  int verbosity_ = 0;
+  bool quiet_ = false;
+};
+
+}  // namespace toolinc

@@ -1,0 +1,38 @@
+// Point-set preprocessing shared by every stage: resampling, removal of the hand and of outliers,
+// principal axes.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+
+#include "toolinc/core/point_cloud.hpp"
+
+namespace toolinc {
+
+// One point per occupied voxel (the mean of its points), in voxel-key order so the result does not
+// depend on the input order. Makes later statistics independent of how densely a part was sampled.
+Points voxel_downsample(const Points& points, double voxel_size);
+
+// Keeps the points strictly farther than radius from center (the hand is a sphere at the origin).
+Points remove_within(const Points& points, const Vec3& center, double radius);
+
+// Keeps the points with at least min_neighbors others within radius.
+Points remove_isolated(const Points& points, double radius, std::size_t min_neighbors);
+
+// PCL-style statistical outlier removal: drops points whose mean distance to their k nearest
+// neighbours exceeds the global mean of that statistic by more than std_multiplier deviations.
+Points remove_statistical_outliers(const Points& points, int k, double std_multiplier);
+
+// Unit normals from the covariance of each point's k nearest neighbours (sign arbitrary).
+Points estimate_normals(const Points& points, int k);
+
+Points transform_points(const Points& points, const Eigen::Matrix4d& target_from_source);
+
+struct PrincipalAxes {
+  Vec3 centroid = Vec3::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: major, middle, minor (right-handed)
+  Vec3 eigenvalues = Vec3::Zero();                      // descending, m^2
+};
+PrincipalAxes principal_axes(const Points& points);
+
+}  // namespace toolinc

@@ -1,0 +1,28 @@
+// A point cloud as the tools exchange it: positions, optional colours and normals, and the frame name.
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace toolinc {
+
+using Vec3 = Eigen::Vector3d;
+using Points = std::vector<Eigen::Vector3d>;
+using Rgb = std::array<std::uint8_t, 3>;
+
+struct PointCloud {
+  Points points;
+  std::vector<Rgb> colors;   // empty, or one per point
+  Points normals;            // empty, or one per point
+  std::string frame;         // e.g. "hand", "root", "canonical"; empty when unknown
+
+  std::size_t size() const { return points.size(); }
+  bool empty() const { return points.empty(); }
+  bool has_colors() const { return !colors.empty(); }
+  bool has_normals() const { return !normals.empty(); }
+};
+
+}  // namespace toolinc

@@ -1,0 +1,17 @@
+// Small facts about rotations and rigid transforms.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace toolinc {
+
+// Orthonormal with det +1, within tolerance (a reflection is not a rotation).
+bool is_rotation(const Eigen::Matrix3d& matrix, double tolerance = 1e-6);
+// A 4x4 with a rotation block, finite translation and bottom row 0 0 0 1.
+bool is_rigid(const Eigen::Matrix4d& matrix, double tolerance = 1e-6);
+// [ax, ay, az, theta] with a unit axis and theta in [0, pi] (the iCub controllers' convention).
+Eigen::Vector4d axis_angle(const Eigen::Matrix3d& rotation);
+// The rotation's angle in degrees.
+double rotation_angle_deg(const Eigen::Matrix3d& rotation);
+
+}  // namespace toolinc

@@ -1,0 +1,30 @@
+// Mirror symmetry of a point set about a plane. Two-sided (every sampled point is mirrored, whichever
+// side it is on) and independent of density (the set is voxel-resampled first, and distances are
+// measured in units of a tolerance and truncated there).
+#pragma once
+
+#include <memory>
+
+#include "toolinc/ann/kdtree.hpp"
+#include "toolinc/core/point_cloud.hpp"
+
+namespace toolinc {
+
+class SymmetryScorer {
+ public:
+  // points: the resampled cloud; the scorer mirrors an evenly spaced subset of at most `samples`
+  // points. tolerance: mirrored points this far or farther from the cloud count as fully asymmetric.
+  SymmetryScorer(const Points& points, std::size_t samples, double tolerance);
+
+  // Mean truncated distance of the mirror images to the cloud, divided by the tolerance: 0 for a
+  // perfect mirror, 1 when nothing matches.
+  double score(const Vec3& normal, const Vec3& point_on_plane) const;
+
+ private:
+  const Points& points_;
+  KdTree tree_;
+  std::vector<std::uint32_t> samples_;
+  double tolerance_;
+};
+
+}  // namespace toolinc

@@ -1,0 +1,76 @@
+// The tool's intrinsic frame (paper sect. 4.1-4.2, design.md): origin at the centre of mass, X the
+// effector axis (towards the salient side of the effector), Y the handle axis (towards the hand), Z the
+// symmetry axis = X x Y. Always right-handed.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "toolinc/core/point_cloud.hpp"
+
+namespace toolinc {
+
+struct ToolFrameConfig {
+  double hand_radius = 0.06;        // m: points this close to the hand origin belong to the hand
+  double voxel_size = 0.004;        // m: resampling that makes every statistic density-independent
+  double isolated_radius = 0.01;    // m: resampled points with fewer than isolated_min_neighbors ...
+  int isolated_min_neighbors = 3;   //    ... others within isolated_radius are stray and dropped
+  int min_points = 100;             // fewer input points (outside the hand) is degenerate
+  double min_length = 0.04;         // m: the tool's extent along its major axis must reach this
+  double min_thickness = 0.001;     // m: RMS spread across the major axis (collinear) or across the
+                                    //    plane (planar) below this is degenerate
+  double handle_fraction = 0.5;     // share of the tool's length, from the hand end, fitted as handle
+  double handle_radial_factor = 1.5;// handle points lie within this times the median radius of the fit
+  int handle_iterations = 20;
+  double handle_residual_scale = 0.002; // m: Huber scale of the handle's cylinder fit (~ stereo noise)
+  double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
+  double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
+  int symmetry_samples = 400;       // points mirrored per score
+  double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
+                                    //    (measured: mirror planes 0.19-0.24, others >= 0.33)
+  double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
+  double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
+  double salience_min = 0.01;       // ... this ratio and this many metres
+};
+
+struct SymmetryCandidate {
+  double angle_deg;   // about the handle axis, from the middle principal axis
+  Vec3 normal;
+  double score;       // SymmetryScorer::score: 0 perfect mirror, 1 none
+};
+
+struct ToolFrame {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // hand_from_tool rotation: columns X, Y, Z
+  Vec3 origin = Vec3::Zero();                           // centre of mass, on the symmetry plane
+  Vec3 eigenvalues = Vec3::Zero();                      // of the resampled cloud, descending, m^2
+
+  // Diagnostics.
+  Vec3 centroid = Vec3::Zero();           // mean of the resampled points (before projection)
+  Eigen::Matrix3d principal = Eigen::Matrix3d::Identity();  // major, middle, minor axes
+  double handle_refinement_deg = 0.0;     // angle between the major axis and the refined handle axis
+  Vec3 handle_point = Vec3::Zero();       // a point on the handle's axis line
+  int handle_points = 0;
+  double handle_radius = 0.0;             // m, of the fitted handle cylinder
+  double handle_rms = 0.0;                // m, RMS radial residual of the handle points
+  std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
+  double symmetry_score = 1.0;
+  double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
+  std::string handle_sign_rule;
+  std::string effector_sign_rule;
+  double effector_reach_positive = 0.0;   // m, along +X from the handle axis
+  double effector_reach_negative = 0.0;   // m, along -X
+  bool salient_effector = false;
+  int points_input = 0, points_outside_hand = 0, points_used = 0;
+
+  Eigen::Matrix4d hand_from_tool() const;
+  Vec3 effector_axis() const { return axes.col(0); }
+  Vec3 handle_axis() const { return axes.col(1); }
+  Vec3 symmetry_axis() const { return axes.col(2); }
+};
+
+// points: the tool in the hand frame (the hand at the origin). Throws MethodError with the reason on
+// degenerate input (too few points, collinear, planar, everything inside the hand radius).
+ToolFrame estimate_tool_frame(const Points& points, const ToolFrameConfig& config = {});
+
+}  // namespace toolinc

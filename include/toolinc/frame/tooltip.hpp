@@ -1,0 +1,41 @@
+// The tooltip (paper sect. 4.3): the point on the symmetry plane, on the effector side of the handle
+// plane, furthest in front of the effector plane.
+#pragma once
+
+#include <string>
+
+#include "toolinc/core/point_cloud.hpp"
+#include "toolinc/frame/tool_frame.hpp"
+
+namespace toolinc {
+
+enum class TooltipRule {
+  furthest,  // furthest in front of the effector plane; near-ties go to the point farthest from the hand
+  weighted,  // the original's score: w * (in front of the effector plane) + (1 - w) * (distance from hand)
+};
+TooltipRule tooltip_rule_from_string(const std::string& name);  // throws std::invalid_argument
+std::string to_string(TooltipRule rule);
+
+struct TooltipConfig {
+  TooltipRule rule = TooltipRule::furthest;
+  double tie_tolerance = 0.005;  // m: "furthest" points within this of the front are tied (~3 sigma of
+                                 //    the stereo noise); the tie goes to the point farthest from the hand
+  double effector_weight = 0.8;  // w of the weighted rule (the original's value)
+  double density_radius = 0.02;  // m: a candidate needs more than min_neighbors points within this,
+  int min_neighbors = 20;        //    so isolated outliers are never the tooltip (the original's check)
+  double hand_radius = 0.06;     // m: points this close to the hand origin are ignored
+};
+
+struct Tooltip {
+  Vec3 position = Vec3::Zero();          // hand frame, on the symmetry plane
+  Vec3 position_in_tool = Vec3::Zero();  // tool frame (z = 0)
+  Vec3 surface_point = Vec3::Zero();     // the chosen cloud point before projection (hand frame)
+  double score = 0.0;
+  int candidates = 0;                    // effector-side points considered
+  int rejected_sparse = 0;               // better-scoring candidates rejected by the density check
+};
+
+// Throws MethodError when no effector-side point passes the density check.
+Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {});
+
+}  // namespace toolinc

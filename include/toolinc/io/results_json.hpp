@@ -1,0 +1,26 @@
+// The tool_frame and tooltip result files (design.md "Files the executables exchange").
+#pragma once
+
+#include <string>
+
+#include "toolinc/frame/tool_frame.hpp"
+#include "toolinc/frame/tooltip.hpp"
+#include "toolinc/io/json_file.hpp"
+#include "toolinc/synth/grasp.hpp"
+
+namespace toolinc {
+
+Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config);
+// Reads the frame's matrix; throws InputError when the file is not a tool_frame or its rotation is not
+// a rotation (not orthonormal, or det != +1, e.g. a mirror-image frame).
+ToolFrame read_tool_frame(const std::string& path);
+
+Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config);
+
+// Ground truth of a synthetic held tool: the grasp, the true tool frame and tooltip(s) in the hand frame.
+Json ground_truth_json(const ToolGroundTruth& truth, const ToolShape& shape);
+ToolGroundTruth read_ground_truth(const std::string& path);
+// Reads the "position" of a tooltip file.
+Vec3 read_tooltip_position(const std::string& path);
+
+}  // namespace toolinc

@@ -1,0 +1,50 @@
+// Synthetic grasps and the ground truth they imply, for tests, benchmarks and the simulator.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "toolinc/core/point_cloud.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/synth/tool_generator.hpp"
+
+namespace toolinc {
+
+struct GraspRange {
+  double about_handle_deg = 90.0;  // rotation about the handle, uniform in +/- this
+  double tilt_deg = 45.0;          // about the hand's Z
+  double roll_deg = 15.0;          // about the hand's X
+  double offset = 0.05;            // m, uniform in +/- this along each axis
+};
+
+// hand_from_canonical = Translation(offset) * Rz(tilt) * Rx(roll) * Ry(about handle).
+Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng);
+
+// The tool as the hand frame sees it: moved by the grasp, the points within hand_radius of the hand
+// origin removed (the hand hides them), Gaussian noise of sigma metres added per coordinate.
+Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from_canonical, double hand_radius,
+                       double noise_sigma, Rng& rng);
+
+// The paper's definitions evaluated with the true frame.
+struct ToolGroundTruth {
+  Eigen::Matrix4d hand_from_canonical = Eigen::Matrix4d::Identity();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // true tool axes in the hand frame
+  Vec3 origin = Vec3::Zero();                           // model centroid on the symmetry plane, hand frame
+  std::vector<Vec3> tooltips;                           // hand frame; several when the tool's symmetry
+                                                        // makes either end of its head count
+  ToolSymmetry symmetry = ToolSymmetry::mirror;
+};
+
+// Tooltip: among the points beyond the handle plane (the model's centroid), the one maximising
+// w * x + (1 - w) * (distance from the hand), projected onto z = 0 (and the same with -x for
+// front-back symmetric tools).
+ToolGroundTruth tool_ground_truth(const Points& canonical_model, ToolSymmetry symmetry,
+                                  const Eigen::Matrix4d& hand_from_canonical, double effector_weight = 0.8);
+
+// Distance from an estimated tooltip (hand frame) to the nearest equivalent true one; for axially
+// symmetric tools, measured in cylindrical coordinates about the handle.
+double tooltip_error(const ToolGroundTruth& truth, const Vec3& estimate);
+// Angle between an estimated handle axis and the true one, in degrees.
+double handle_axis_error_deg(const ToolGroundTruth& truth, const Vec3& handle_axis);
+
+}  // namespace toolinc

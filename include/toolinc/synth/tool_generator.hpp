@@ -1,0 +1,51 @@
+// Procedural tools in the canonical pose (design.md): the handle starts at the origin (the hand) and
+// runs along -Y, the effector points towards +X, and every tool is mirror-symmetric about z = 0.
+// Points are sampled uniformly on the outer surface with outward normals.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "toolinc/core/point_cloud.hpp"
+
+namespace toolinc {
+
+enum class ToolFamily { stick, hoe, hook, rake, shovel, l_stick, t_bar, flat_top };
+
+// Which symmetries besides the mirror about z = 0 a family has; ground truth comparisons use it.
+enum class ToolSymmetry {
+  mirror,      // only z = 0: the effector has a salient side (+X)
+  front_back,  // also x = 0: either end of the head counts (T, flat-top)
+  axial,       // any rotation about the handle (stick)
+};
+
+struct ToolShape {
+  ToolFamily family = ToolFamily::hoe;
+  double handle_length = 0.20;  // m, from the origin along -Y to where the head starts
+  double handle_radius = 0.010; // m
+  double head_length = 0.10;    // m, reach of the head towards +X (hoe blade, hook, L bar, rake teeth,
+                                //    shovel scoop depth is head_length / 5); full length along X for
+                                //    the T bar and the flat top
+  double head_width = 0.08;     // m, extent across Z (hoe blade, rake bar, shovel blade, flat top)
+  double head_height = 0.04;    // m, extent along Y (hoe blade, hook return, shovel blade length)
+  double spacing = 0.002;       // m, mean distance between neighbouring surface samples
+};
+
+std::vector<ToolFamily> all_families();
+std::string to_string(ToolFamily family);
+// Throws std::invalid_argument listing the known names.
+ToolFamily family_from_string(const std::string& name);
+ToolSymmetry symmetry_of(ToolFamily family);
+bool has_salient_effector(ToolFamily family);  // symmetry_of(family) == ToolSymmetry::mirror
+
+// The shape a family has when nothing else is said (similar in size to the original's tools).
+ToolShape default_shape(ToolFamily family);
+
+// Deterministic for a given seed. Each surface patch gets round(area / spacing^2) uniform samples, so the
+// single nearest neighbour is at about spacing / 2 and the six nearest average about spacing.
+// Throws std::invalid_argument on non-positive or non-finite dimensions, or on a spacing that would give
+// more than 5 million points.
+PointCloud generate_tool(const ToolShape& shape, std::uint32_t seed);
+
+}  // namespace toolinc

@@ -1,0 +1,122 @@
+#include "toolinc/ann/kdtree.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace toolinc {
+
+KdTree::KdTree(const Points& points, int leaf_size) : points_(points), order_(points.size()) {
+  std::iota(order_.begin(), order_.end(), 0u);
+  nodes_.reserve(2 * points.size() / std::max(1, leaf_size) + 1);
+  if (!points.empty()) build(0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size));
+}
+
+std::int32_t KdTree::build(std::uint32_t begin, std::uint32_t end, int leaf_size) {
+  const auto id = static_cast<std::int32_t>(nodes_.size());
+  nodes_.push_back({begin, end, -1, -1, -1, 0.0});
+  if (end - begin <= static_cast<std::uint32_t>(leaf_size)) return id;
+
+  // Split the widest dimension at the median: balanced, and robust to duplicate points.
+  Vec3 lo = points_[order_[begin]], hi = lo;
+  for (std::uint32_t i = begin + 1; i < end; ++i) {
+    lo = lo.cwiseMin(points_[order_[i]]);
+    hi = hi.cwiseMax(points_[order_[i]]);
+  }
+  int dim = 0;
+  (hi - lo).maxCoeff(&dim);
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](std::uint32_t a, std::uint32_t b) { return points_[a][dim] < points_[b][dim]; });
+  const double split = points_[order_[mid]][dim];
+  const std::int32_t left = build(begin, mid, leaf_size);
+  const std::int32_t right = build(mid, end, leaf_size);
+  nodes_[id].left = left;
+  nodes_[id].right = right;
+  nodes_[id].split_dim = dim;
+  nodes_[id].split_value = split;
+  return id;
+}
+
+// Depth-first search with pruning against a shrinking squared bound; `visit(index, d2)` may lower it.
+template <typename Visit>
+void KdTree::search(const Vec3& query, double& bound2, Visit&& visit) const {
+  if (nodes_.empty()) return;
+  struct Pending {
+    std::int32_t node;
+    double min_d2;
+  };
+  Pending stack[64];
+  int top = 0;
+  stack[top++] = {0, 0.0};
+  while (top > 0) {
+    const Pending item = stack[--top];
+    if (item.min_d2 > bound2) continue;
+    const Node& node = nodes_[item.node];
+    if (node.split_dim < 0) {
+      for (std::uint32_t i = node.begin; i < node.end; ++i) {
+        const std::uint32_t index = order_[i];
+        const double d2 = (points_[index] - query).squaredNorm();
+        if (d2 <= bound2) visit(index, d2);
+      }
+      continue;
+    }
+    const double diff = query[node.split_dim] - node.split_value;
+    const std::int32_t near = diff < 0 ? node.left : node.right;
+    const std::int32_t far = diff < 0 ? node.right : node.left;
+    // The far child goes first on the stack so the near one is searched first.
+    stack[top++] = {far, std::max(item.min_d2, diff * diff)};
+    stack[top++] = {near, item.min_d2};
+  }
+}
+
+KdTree::Neighbor KdTree::nearest(const Vec3& query, double max_distance) const {
+  Neighbor best{npos, std::numeric_limits<double>::infinity()};
+  double bound2 = max_distance * max_distance;
+  search(query, bound2, [&](std::uint32_t index, double d2) {
+    if (d2 < best.distance2 || (d2 == best.distance2 && index < best.index)) {
+      best = {index, d2};
+      bound2 = d2;
+    }
+  });
+  return best;
+}
+
+std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
+  std::vector<Neighbor> heap;
+  if (k <= 0) return heap;
+  heap.reserve(k + 1);
+  const auto closer = [](const Neighbor& a, const Neighbor& b) {
+    return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
+  };
+  double bound2 = std::numeric_limits<double>::infinity();
+  search(query, bound2, [&](std::uint32_t index, double d2) {
+    const Neighbor candidate{index, d2};
+    if (static_cast<int>(heap.size()) == k && !closer(candidate, heap.front())) return;
+    heap.push_back(candidate);
+    std::push_heap(heap.begin(), heap.end(), closer);
+    if (static_cast<int>(heap.size()) > k) {
+      std::pop_heap(heap.begin(), heap.end(), closer);
+      heap.pop_back();
+    }
+    if (static_cast<int>(heap.size()) == k) bound2 = heap.front().distance2;
+  });
+  std::sort_heap(heap.begin(), heap.end(), closer);
+  return heap;
+}
+
+void KdTree::radius(const Vec3& query, double radius, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  double bound2 = radius * radius;
+  search(query, bound2, [&](std::uint32_t index, double) { out.push_back(index); });
+}
+
+std::size_t KdTree::count_within(const Vec3& query, double radius, std::size_t enough) const {
+  std::size_t count = 0;
+  double bound2 = radius * radius;
+  search(query, bound2, [&](std::uint32_t, double) {
+    if (++count >= enough) bound2 = -1.0;  // stop: every remaining node is pruned
+  });
+  return count;
+}
+
+}  // namespace toolinc

@@ -1,0 +1,63 @@
+#include "toolinc/app/options.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "toolinc/core/error.hpp"
+#include "toolinc/io/cloud_io.hpp"
+
+namespace toolinc {
+
+void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
+  const auto group = "Tool frame";
+  const auto positive = CLI::PositiveNumber;
+  cli.add_option("--hand-radius", c.hand_radius, "Points this close to the hand origin are the hand's (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--voxel-size", c.voxel_size, "Resampling voxel for density-independent statistics (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--min-points", c.min_points, "Fewer points outside the hand is degenerate")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--min-length", c.min_length, "Shortest acceptable extent along the major axis (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--min-thickness", c.min_thickness, "RMS spread below which points are collinear/planar (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--handle-fraction", c.handle_fraction, "Share of the length, from the hand end, fitted as handle")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.05, 1.0));
+  cli.add_option("--symmetry-step-deg", c.symmetry_step_deg, "Coarse sweep step of the symmetry plane (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.5, 45.0));
+  cli.add_option("--symmetry-tolerance", c.symmetry_tolerance, "Mirror distance counted as fully asymmetric (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--symmetry-samples", c.symmetry_samples, "Points mirrored per symmetry score")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--salience-ratio", c.salience_ratio, "Reach ratio that makes an effector side salient")
+      ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));
+  cli.add_option("--salience-min", c.salience_min, "Reach difference that makes an effector side salient (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+}
+
+void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {
+  const auto group = "Tooltip";
+  cli.add_option("--rule", rule, "furthest (paper: furthest in front, ties by distance from the hand) or weighted")
+      ->capture_default_str()->group(group)->check(CLI::IsMember({"furthest", "weighted"}));
+  cli.add_option("--tie-tolerance", c.tie_tolerance, "furthest rule: points this close to the front tie (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--effector-weight", c.effector_weight, "weighted rule: weight of the distance in front (0..1)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--density-radius", c.density_radius, "Density check radius (m)")
+      ->capture_default_str()->group(group)->check(CLI::PositiveNumber);
+  cli.add_option("--min-neighbors", c.min_neighbors, "A tooltip needs more than this many neighbours")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+}
+
+PointCloud load_cloud(const std::string& path) {
+  CloudReadStats stats;
+  PointCloud cloud = read_cloud(path, &stats);
+  if (stats.non_finite_dropped > 0)
+    spdlog::warn("{}: dropped {} non-finite points of {}", path, stats.non_finite_dropped, stats.points_in_file);
+  if (cloud.empty())
+    throw InputError(path, stats.points_in_file == 0 ? "the cloud has no points"
+                                                     : "the cloud has no finite points");
+  spdlog::info("{}: {} points{}", path, cloud.size(), cloud.frame.empty() ? "" : " (frame " + cloud.frame + ")");
+  return cloud;
+}
+
+}  // namespace toolinc

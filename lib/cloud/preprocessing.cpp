@@ -1,0 +1,113 @@
+#include "toolinc/cloud/preprocessing.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+#include "toolinc/ann/kdtree.hpp"
+
+namespace toolinc {
+
+Points voxel_downsample(const Points& points, double voxel_size) {
+  using Key = std::array<std::int64_t, 3>;
+  std::vector<std::pair<Key, std::uint32_t>> keyed(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d cell = (points[i] / voxel_size).array().floor();
+    keyed[i] = {{static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
+                 static_cast<std::int64_t>(cell.z())},
+                i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  Points out;
+  for (std::size_t begin = 0; begin < keyed.size();) {
+    std::size_t end = begin;
+    Vec3 sum = Vec3::Zero();
+    for (; end < keyed.size() && keyed[end].first == keyed[begin].first; ++end) sum += points[keyed[end].second];
+    out.push_back(sum / static_cast<double>(end - begin));
+    begin = end;
+  }
+  return out;
+}
+
+Points remove_within(const Points& points, const Vec3& center, double radius) {
+  Points out;
+  out.reserve(points.size());
+  const double r2 = radius * radius;
+  for (const auto& p : points)
+    if ((p - center).squaredNorm() > r2) out.push_back(p);
+  return out;
+}
+
+Points remove_isolated(const Points& points, double radius, std::size_t min_neighbors) {
+  const KdTree tree(points);
+  Points out;
+  out.reserve(points.size());
+  for (const auto& p : points)  // the point itself is counted by the tree, hence the + 1
+    if (tree.count_within(p, radius, min_neighbors + 1) >= min_neighbors + 1) out.push_back(p);
+  return out;
+}
+
+Points remove_statistical_outliers(const Points& points, int k, double std_multiplier) {
+  if (points.size() <= static_cast<std::size_t>(k)) return points;
+  const KdTree tree(points);
+  std::vector<double> mean_distance(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto neighbors = tree.knn(points[i], k + 1);  // the first is the point itself
+    double sum = 0.0;
+    for (std::size_t j = 1; j < neighbors.size(); ++j) sum += std::sqrt(neighbors[j].distance2);
+    mean_distance[i] = sum / static_cast<double>(neighbors.size() - 1);
+  }
+  const double n = static_cast<double>(points.size());
+  const double mean = std::accumulate(mean_distance.begin(), mean_distance.end(), 0.0) / n;
+  double var = 0.0;
+  for (double d : mean_distance) var += (d - mean) * (d - mean);
+  const double threshold = mean + std_multiplier * std::sqrt(var / (n - 1.0));
+  Points out;
+  out.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (mean_distance[i] <= threshold) out.push_back(points[i]);
+  return out;
+}
+
+Points estimate_normals(const Points& points, int k) {
+  const KdTree tree(points);
+  Points normals(points.size(), Vec3::UnitZ());
+  Points neighborhood;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    neighborhood.clear();
+    for (const auto& n : tree.knn(points[i], k)) neighborhood.push_back(points[n.index]);
+    if (neighborhood.size() >= 3) normals[i] = principal_axes(neighborhood).axes.col(2);
+  }
+  return normals;
+}
+
+Points transform_points(const Points& points, const Eigen::Matrix4d& target_from_source) {
+  const Eigen::Matrix3d rotation = target_from_source.topLeftCorner<3, 3>();
+  const Vec3 translation = target_from_source.topRightCorner<3, 1>();
+  Points out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = rotation * points[i] + translation;
+  return out;
+}
+
+PrincipalAxes principal_axes(const Points& points) {
+  PrincipalAxes result;
+  if (points.empty()) return result;
+  for (const auto& p : points) result.centroid += p;
+  result.centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) {
+    const Vec3 d = p - result.centroid;
+    covariance.noalias() += d * d.transpose();
+  }
+  covariance /= static_cast<double>(std::max<std::size_t>(points.size() - 1, 1));
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  // Eigen sorts ascending; reverse to major, middle, minor and make the triple right-handed.
+  result.eigenvalues = solver.eigenvalues().reverse().cwiseMax(0.0);
+  result.axes = solver.eigenvectors().rowwise().reverse();
+  result.axes.col(2) = result.axes.col(0).cross(result.axes.col(1));
+  return result;
+}
+
+}  // namespace toolinc

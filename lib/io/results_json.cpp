@@ -1,0 +1,144 @@
+#include "toolinc/io/results_json.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <Eigen/LU>
+
+#include "toolinc/core/error.hpp"
+#include "toolinc/core/rigid.hpp"
+
+namespace toolinc {
+
+Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
+  Json candidates = Json::array();
+  for (const auto& c : frame.symmetry_candidates)
+    candidates.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
+  return {
+      {"type", "tool_frame"},
+      {"version", 1},
+      {"frame", "hand"},
+      {"origin", to_json(frame.origin)},
+      {"effector_axis", to_json(frame.effector_axis())},
+      {"handle_axis", to_json(frame.handle_axis())},
+      {"symmetry_axis", to_json(frame.symmetry_axis())},
+      {"matrix", to_json(frame.hand_from_tool())},
+      {"eigenvalues", to_json(frame.eigenvalues)},
+      {"diagnostics",
+       {{"points", {{"input", frame.points_input}, {"outside_hand", frame.points_outside_hand},
+                    {"used", frame.points_used}, {"handle", frame.handle_points}}},
+        {"centroid", to_json(frame.centroid)},
+        {"principal_axes", {to_json(Vec3(frame.principal.col(0))), to_json(Vec3(frame.principal.col(1))),
+                            to_json(Vec3(frame.principal.col(2)))}},
+        {"handle_refinement_deg", frame.handle_refinement_deg},
+        {"symmetry",
+         {{"score", frame.symmetry_score},
+          {"score_meaning", "mean truncated mirror distance / tolerance: 0 perfect mirror, 1 none"},
+          {"across_handle_score", frame.across_handle_score},
+          {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
+          {"candidates", candidates}}},
+        {"handle_sign_rule", frame.handle_sign_rule},
+        {"effector_sign_rule", frame.effector_sign_rule},
+        {"effector_reach", {{"positive", frame.effector_reach_positive}, {"negative", frame.effector_reach_negative}}},
+        {"salient_effector", frame.salient_effector},
+        {"config", {{"hand_radius", config.hand_radius}, {"voxel_size", config.voxel_size},
+                    {"symmetry_tolerance", config.symmetry_tolerance}, {"handle_fraction", config.handle_fraction}}}}},
+  };
+}
+
+ToolFrame read_tool_frame(const std::string& path) {
+  const Json json = read_json(path);
+  check_type(json, "tool_frame", 1, path);
+  const Eigen::Matrix4d matrix = matrix4_field(json, "matrix", path);
+  const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
+  if (!is_rotation(rotation, 1e-4))
+    throw InputError(path, fmt::format("matrix is not a rotation (det {:.4f}, max |R^T R - I| {:.2e}): a tool "
+                                       "frame must be orthonormal and right-handed",
+                                       rotation.determinant(),
+                                       (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff()));
+  if ((matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
+    throw InputError(path, "matrix: the bottom row must be 0 0 0 1");
+  ToolFrame frame;
+  frame.axes = rotation;
+  frame.origin = matrix.topRightCorner<3, 1>();
+  return frame;
+}
+
+Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config) {
+  const Eigen::Vector4d aa = axis_angle(frame.axes);
+  return {
+      {"type", "tooltip"},
+      {"version", 1},
+      {"frame", "hand"},
+      {"position", to_json(tooltip.position)},
+      {"position_in_tool_frame", to_json(tooltip.position_in_tool)},
+      {"tool_frame", to_json(frame.hand_from_tool())},
+      {"attach_tip_frame",
+       {{"position", to_json(tooltip.position)}, {"axis_angle", {aa[0], aa[1], aa[2], aa[3]}}}},
+      {"diagnostics",
+       {{"rule", to_string(config.rule)},
+        {"effector_weight", config.effector_weight},
+        {"tie_tolerance", config.tie_tolerance},
+        {"surface_point", to_json(tooltip.surface_point)},
+        {"score", tooltip.score},
+        {"candidates", tooltip.candidates},
+        {"rejected_sparse", tooltip.rejected_sparse},
+        {"density", {{"radius", config.density_radius}, {"min_neighbors", config.min_neighbors}}}}},
+  };
+}
+
+Json ground_truth_json(const ToolGroundTruth& truth, const ToolShape& shape) {
+  Eigen::Matrix4d frame = Eigen::Matrix4d::Identity();
+  frame.topLeftCorner<3, 3>() = truth.axes;
+  frame.topRightCorner<3, 1>() = truth.origin;
+  Json tips = Json::array();
+  for (const auto& tip : truth.tooltips) tips.push_back(to_json(tip));
+  const char* symmetry = truth.symmetry == ToolSymmetry::mirror       ? "mirror"
+                         : truth.symmetry == ToolSymmetry::front_back ? "front_back"
+                                                                      : "axial";
+  return {
+      {"type", "tool_ground_truth"},
+      {"version", 1},
+      {"frame", "hand"},
+      {"model",
+       {{"family", to_string(shape.family)}, {"handle_length", shape.handle_length},
+        {"handle_radius", shape.handle_radius}, {"head_length", shape.head_length},
+        {"head_width", shape.head_width}, {"head_height", shape.head_height}, {"spacing", shape.spacing}}},
+      {"symmetry", symmetry},
+      {"hand_from_canonical", to_json(truth.hand_from_canonical)},
+      {"tool_frame", to_json(frame)},
+      {"tooltip", to_json(truth.tooltips.front())},
+      {"equivalent_tooltips", tips},
+  };
+}
+
+ToolGroundTruth read_ground_truth(const std::string& path) {
+  const Json json = read_json(path);
+  check_type(json, "tool_ground_truth", 1, path);
+  ToolGroundTruth truth;
+  truth.hand_from_canonical = matrix4_field(json, "hand_from_canonical", path);
+  const Eigen::Matrix4d frame = matrix4_field(json, "tool_frame", path);
+  truth.axes = frame.topLeftCorner<3, 3>();
+  truth.origin = frame.topRightCorner<3, 1>();
+  if (!is_rotation(truth.axes, 1e-6) || !is_rigid(truth.hand_from_canonical, 1e-6))
+    throw InputError(path, "the ground truth's transforms are not rigid");
+  const std::string symmetry = json.value("symmetry", "");
+  if (symmetry != "mirror" && symmetry != "front_back" && symmetry != "axial")
+    throw InputError(path, "symmetry must be mirror, front_back or axial");
+  truth.symmetry = symmetry == "mirror" ? ToolSymmetry::mirror
+                   : symmetry == "front_back" ? ToolSymmetry::front_back
+                                              : ToolSymmetry::axial;
+  if (!json.contains("equivalent_tooltips") || !json["equivalent_tooltips"].is_array() ||
+      json["equivalent_tooltips"].empty())
+    throw InputError(path, "missing \"equivalent_tooltips\"");
+  for (std::size_t i = 0; i < json["equivalent_tooltips"].size(); ++i)
+    truth.tooltips.push_back(vector3_field(Json{{"tip", json["equivalent_tooltips"][i]}}, "tip", path));
+  return truth;
+}
+
+Vec3 read_tooltip_position(const std::string& path) {
+  const Json json = read_json(path);
+  check_type(json, "tooltip", 1, path);
+  return vector3_field(json, "position", path);
+}
+
+}  // namespace toolinc

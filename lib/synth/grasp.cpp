@@ -1,0 +1,91 @@
+#include "toolinc/synth/grasp.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace toolinc {
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}
+
+Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng) {
+  const double about = rng.uniform(-1, 1) * range.about_handle_deg * kDeg;
+  const double tilt = rng.uniform(-1, 1) * range.tilt_deg * kDeg;
+  const double roll = rng.uniform(-1, 1) * range.roll_deg * kDeg;
+  Vec3 offset;
+  for (int i = 0; i < 3; ++i) offset[i] = rng.uniform(-1, 1) * range.offset;
+  Eigen::Matrix4d grasp = Eigen::Matrix4d::Identity();
+  grasp.topLeftCorner<3, 3>() = (Eigen::AngleAxisd(tilt, Vec3::UnitZ()) * Eigen::AngleAxisd(roll, Vec3::UnitX()) *
+                                 Eigen::AngleAxisd(about, Vec3::UnitY()))
+                                    .toRotationMatrix();
+  grasp.topRightCorner<3, 1>() = offset;
+  return grasp;
+}
+
+Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from_canonical, double hand_radius,
+                       double noise_sigma, Rng& rng) {
+  const Eigen::Matrix3d rotation = hand_from_canonical.topLeftCorner<3, 3>();
+  const Vec3 translation = hand_from_canonical.topRightCorner<3, 1>();
+  Points observed;
+  observed.reserve(canonical.size());
+  for (const auto& p : canonical) {
+    const Vec3 q = rotation * p + translation;
+    if (q.norm() <= hand_radius) continue;
+    observed.push_back(q + noise_sigma * Vec3(rng.gaussian(), rng.gaussian(), rng.gaussian()));
+  }
+  return observed;
+}
+
+ToolGroundTruth tool_ground_truth(const Points& model, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
+                                  double effector_weight) {
+  ToolGroundTruth truth;
+  truth.hand_from_canonical = grasp;
+  truth.symmetry = symmetry;
+  const Eigen::Matrix3d rotation = grasp.topLeftCorner<3, 3>();
+  const Vec3 translation = grasp.topRightCorner<3, 1>();
+  truth.axes = rotation;
+  Vec3 centroid = Vec3::Zero();
+  for (const auto& p : model) centroid += p;
+  centroid /= static_cast<double>(std::max<std::size_t>(model.size(), 1));
+  centroid.z() = 0.0;
+  truth.origin = rotation * centroid + translation;
+
+  const auto best_tip = [&](double forward_sign) {
+    double best = -std::numeric_limits<double>::infinity();
+    Vec3 tip = Vec3::Zero();
+    for (const auto& p : model) {
+      if (p.y() >= centroid.y()) continue;
+      const double score = effector_weight * forward_sign * p.x() +
+                           (1.0 - effector_weight) * (rotation * p + translation).norm();
+      if (score > best) best = score, tip = Vec3(p.x(), p.y(), 0.0);
+    }
+    return Vec3(rotation * tip + translation);
+  };
+  truth.tooltips.push_back(best_tip(+1.0));
+  if (symmetry == ToolSymmetry::front_back) truth.tooltips.push_back(best_tip(-1.0));
+  return truth;
+}
+
+double tooltip_error(const ToolGroundTruth& truth, const Vec3& estimate) {
+  const Eigen::Matrix3d rotation = truth.hand_from_canonical.topLeftCorner<3, 3>();
+  const Vec3 translation = truth.hand_from_canonical.topRightCorner<3, 1>();
+  double error = std::numeric_limits<double>::infinity();
+  for (const auto& tip : truth.tooltips) {
+    if (truth.symmetry == ToolSymmetry::axial) {
+      const Vec3 e = rotation.transpose() * (estimate - translation);
+      const Vec3 t = rotation.transpose() * (tip - translation);
+      error = std::min(error, std::hypot(e.y() - t.y(), std::hypot(e.x(), e.z()) - std::hypot(t.x(), t.z())));
+    } else {
+      error = std::min(error, (estimate - tip).norm());
+    }
+  }
+  return error;
+}
+
+double handle_axis_error_deg(const ToolGroundTruth& truth, const Vec3& handle_axis) {
+  const double c = std::clamp(handle_axis.normalized().dot(truth.axes.col(1)), -1.0, 1.0);
+  return std::acos(c) / kDeg;
+}
+
+}  // namespace toolinc
