@@ -15,6 +15,7 @@
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
+#include "toolinc/synth/evaluation.hpp"
 
 using namespace toolinc;
 using toolinc::testing::make_held_tool;
@@ -37,23 +38,18 @@ TEST(ToolFrameAccuracy, EveryFamilyManyGrasps) {
     for (int g = 0; g < kGraspsPerFamily; ++g) {
       const auto held = make_held_tool(family, 1000u + static_cast<std::uint32_t>(g));
       SCOPED_TRACE(to_string(family) + " grasp " + std::to_string(g));
-      const ToolFrame frame = estimate_tool_frame(held.observed);
-      const Tooltip tip = find_tooltip(held.observed, frame);
-
-      EXPECT_TRUE(is_rotation(frame.axes, 1e-9)) << "det " << frame.axes.determinant();
-      const double handle_error = handle_axis_error_deg(held.truth, frame.handle_axis());
-      EXPECT_LE(handle_error, 3.0);
-      if (has_salient_effector(family)) {
-        EXPECT_GT(frame.effector_axis().dot(held.truth.axes.col(0)), 0.0) << "effector sign wrong";
-        EXPECT_TRUE(frame.salient_effector);
-      }
-      const double tip_error = tooltip_error(held.truth, tip.position);
-      EXPECT_LE(tip_error, 0.020);
+      Rng noise(static_cast<std::uint32_t>(g));
+      const HeldToolErrors e = evaluate_held_tool(held.model.points, symmetry_of(family), held.grasp, 0.06, 0.0015, noise);
+      ASSERT_TRUE(e.failure.empty()) << e.failure;
+      EXPECT_TRUE(e.right_handed);
+      EXPECT_LE(e.handle_axis_deg, 3.0);
+      if (has_salient_effector(family)) EXPECT_TRUE(e.effector_sign_right);
+      EXPECT_LE(e.tooltip_m, 0.020);
       auto& s = stats[to_string(family)];
       ++s.cases;
-      s.worst_handle_deg = std::max(s.worst_handle_deg, handle_error);
-      s.worst_tip = std::max(s.worst_tip, tip_error);
-      if (tip_error <= 0.010) ++s.tips_within_10mm, ++within_10mm;
+      s.worst_handle_deg = std::max(s.worst_handle_deg, e.handle_axis_deg);
+      s.worst_tip = std::max(s.worst_tip, e.tooltip_m);
+      if (e.tooltip_m <= 0.010) ++s.tips_within_10mm, ++within_10mm;
       ++cases;
     }
   }
@@ -61,6 +57,18 @@ TEST(ToolFrameAccuracy, EveryFamilyManyGrasps) {
     std::printf("%-9s cases %3d  worst handle %.2f deg  worst tooltip %.1f mm  within 10 mm %d\n", name.c_str(),
                 s.cases, s.worst_handle_deg, 1000 * s.worst_tip, s.tips_within_10mm);
   EXPECT_GE(within_10mm, static_cast<int>(0.97 * cases)) << within_10mm << " of " << cases;
+}
+
+TEST(ToolFrameAccuracy, SalientEffectorIsDetectedWhereItExists) {
+  for (ToolFamily family : all_families()) {
+    const auto held = make_held_tool(family, 77);
+    EXPECT_EQ(estimate_tool_frame(held.observed).salient_effector, has_salient_effector(family)) << to_string(family);
+  }
+}
+
+TEST(ToolFrameAccuracy, MeasuredSymmetryMatchesTheFamilies) {
+  for (ToolFamily family : all_families())
+    EXPECT_EQ(measure_symmetry(generate_tool(default_shape(family), 1).points), symmetry_of(family)) << to_string(family);
 }
 
 TEST(ToolFrameAccuracy, FrameIsRightHandedAndDeterministic) {

@@ -56,6 +56,7 @@ struct HandleFit {
   Vec3 point;  // on the axis line
   int points = 0;
   double radius = 0.0, rms = 0.0;
+  bool cylinder = true;  // false: the handle's points did not form a surface, their principal axis is used
 };
 
 // The major axis is tilted by a heavy head (7-26 degrees on hooks and L-shapes in the original), so
@@ -67,7 +68,7 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
   handle.axis = principal.axes.col(0);
   handle.point = principal.centroid;
   if (handle.axis.dot(-principal.centroid) < 0) handle.axis = -handle.axis;
-  HandleFit fit{handle.axis, handle.point, 0, 0.0, 0.0};
+  HandleFit fit{handle.axis, handle.point, 0, 0.0, 0.0, true};
   std::vector<double> along(cloud.size()), radial;
   Points slab;
   for (int iteration = 0; iteration < config.handle_iterations; ++iteration) {
@@ -91,10 +92,16 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
       if (std::abs(radial[j] - expected) <= band) on_handle.push_back(slab[j]);
     if (on_handle.size() < 10) break;
     Cylinder refit = fit_cylinder(on_handle, {handle.point, handle.axis, expected, 0.0}, config.handle_residual_scale);
+    const bool surface = refit.rms <= config.handle_solid_rms * refit.radius;
+    if (!surface) {
+      // Not a surface (a filled model, or no handle cylinder to speak of): the points' own line.
+      const PrincipalAxes line = principal_axes(on_handle);
+      refit = {line.centroid, line.axes.col(0), quantile(radial, 0.5), refit.rms};
+    }
     if (refit.axis.dot(handle.axis) < 0) refit.axis = -refit.axis;
     const double change = std::acos(std::clamp(refit.axis.dot(handle.axis), -1.0, 1.0));
     handle = refit;
-    fit = {handle.axis, handle.point, static_cast<int>(on_handle.size()), handle.radius, handle.rms};
+    fit = {handle.axis, handle.point, static_cast<int>(on_handle.size()), handle.radius, handle.rms, surface};
     if (change < 1e-5) break;
   }
   return fit;
@@ -167,6 +174,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.handle_points = handle.points;
   frame.handle_radius = handle.radius;
   frame.handle_rms = handle.rms;
+  frame.handle_cylinder = handle.cylinder;
   frame.handle_refinement_deg = std::acos(std::min(1.0, std::abs(y_axis.dot(principal.axes.col(0))))) / kDeg;
   frame.handle_sign_rule = "towards the hand: the hand origin lies on the +Y side of the handle";
 

@@ -24,6 +24,9 @@ struct ToolFrameConfig {
   double handle_radial_factor = 1.5;// handle points lie within this times the median radius of the fit
   int handle_iterations = 20;
   double handle_residual_scale = 0.002; // m: Huber scale of the handle's cylinder fit (~ stereo noise)
+  double handle_solid_rms = 0.2;    // a cylinder fit leaving an RMS residual above this share of its
+                                    //    radius (0.15 measured on noisy surfaces, 0.23-0.47 on the filled CAD
+                                    //    models) means a filled handle: its principal axis is used instead
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
@@ -51,8 +54,9 @@ struct ToolFrame {
   double handle_refinement_deg = 0.0;     // angle between the major axis and the refined handle axis
   Vec3 handle_point = Vec3::Zero();       // a point on the handle's axis line
   int handle_points = 0;
-  double handle_radius = 0.0;             // m, of the fitted handle cylinder
+  double handle_radius = 0.0;             // m, of the handle's fitted cylinder
   double handle_rms = 0.0;                // m, RMS radial residual of the handle points
+  bool handle_cylinder = true;            // false when the handle points are not a cylinder surface
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
   double symmetry_score = 1.0;
   double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
