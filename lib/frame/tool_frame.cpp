@@ -92,7 +92,14 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
       if (std::abs(radial[j] - expected) <= band) on_handle.push_back(slab[j]);
     if (on_handle.size() < 10) break;
     Cylinder refit = fit_cylinder(on_handle, {handle.point, handle.axis, expected, 0.0}, config.handle_residual_scale);
-    const bool surface = refit.rms <= config.handle_solid_rms * refit.radius;
+    // A surface leaves no points near its axis; a filled model leaves about a quarter inside half the radius.
+    int inside = 0, within = 0;
+    for (const auto& p : slab) {
+      const double r = radial_distance(refit, p);
+      within += r <= refit.radius + band;
+      inside += r < 0.5 * refit.radius;
+    }
+    const bool surface = inside <= config.handle_solid_fraction * within;
     if (!surface) {
       // Not a surface (a filled model, or no handle cylinder to speak of): the points' own line.
       const PrincipalAxes line = principal_axes(on_handle);

@@ -24,9 +24,9 @@ struct ToolFrameConfig {
   double handle_radial_factor = 1.5;// handle points lie within this times the median radius of the fit
   int handle_iterations = 20;
   double handle_residual_scale = 0.002; // m: Huber scale of the handle's cylinder fit (~ stereo noise)
-  double handle_solid_rms = 0.2;    // a cylinder fit leaving an RMS residual above this share of its
-                                    //    radius (0.15 measured on noisy surfaces, 0.23-0.47 on the filled CAD
-                                    //    models) means a filled handle: its principal axis is used instead
+  double handle_solid_fraction = 0.1; // more of the handle's points than this inside half its radius
+                                    //    means a filled model (about 25%; a noisy surface has < 1%): its
+                                    //    principal axis is used instead of the cylinder's
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
