@@ -76,6 +76,6 @@ void write_session_json(const std::string& session_dir, const SessionInfo& sessi
 // Writes a whole session into session_dir (which must not exist or be empty) through a temporary
 // sibling folder renamed at the end, so a reader never sees half a session.
 void write_session(const std::string& session_dir, const SessionInfo& session, const std::vector<ViewData>& views,
-                   const nlohmann::json& ground_truth = nullptr);
+                   const nlohmann::ordered_json& ground_truth = nullptr);
 
 }  // namespace toolinc

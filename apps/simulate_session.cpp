@@ -1,0 +1,92 @@
+// simulate-session -o SESSION: a recorded session made offline (design.md "Recorded session"): a
+// procedural or given tool held in the hand, explored in the original's five wrist poses and rendered as
+// the robot would record it, with ground_truth.json.
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "toolinc/app/command.hpp"
+#include "toolinc/app/options.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/session_simulator.hpp"
+
+namespace {
+
+// VIEW:TRANS_M:ROT_DEG
+toolinc::GrossError parse_gross_error(const std::string& text) {
+  std::istringstream in(text);
+  toolinc::GrossError gross;
+  char colon1 = 0, colon2 = 0;
+  if (!(in >> gross.view >> colon1 >> gross.translation >> colon2 >> gross.rotation_deg) || colon1 != ':' ||
+      colon2 != ':' || !in.eof())
+    throw std::invalid_argument("--gross-error \"" + text + "\": expected VIEW:TRANS_M:ROT_DEG, e.g. 2:0.03:10");
+  return gross;
+}
+
+toolinc::ToolSymmetry symmetry_from_string(const std::string& name) {
+  return name == "axial" ? toolinc::ToolSymmetry::axial
+         : name == "front_back" ? toolinc::ToolSymmetry::front_back
+                                : toolinc::ToolSymmetry::mirror;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  toolinc::Command command("simulate-session", "Simulate a recorded tool-exploration session with ground truth");
+  toolinc::SessionSimulatorConfig config;
+  std::string family = "hoe", model_file, symmetry = "mirror", grasp = "random", label;
+  std::vector<std::string> gross_errors;
+  double kinematic_mm = config.kinematic_error_m * 1000.0;
+  bool no_points = false, no_blob = false;
+  auto& cli = command.cli();
+  auto* family_option =
+      cli.add_option("--family", family, "stick, hoe, hook, rake, shovel, l-stick, t-bar, flat-top")->capture_default_str();
+  cli.add_option("--model", model_file, "A tool model in the canonical pose (PLY or PCD) instead of a family")
+      ->check(CLI::ExistingFile)
+      ->excludes(family_option);
+  cli.add_option("--symmetry", symmetry, "The model's symmetry")
+      ->check(CLI::IsMember({"mirror", "front_back", "axial"}))
+      ->capture_default_str();
+  cli.add_option("--seed", config.seed, "Seed of the grasp, the errors and the noise")->capture_default_str();
+  cli.add_option("--grasp", grasp, "random (drawn from the seed) or canonical (identity)")
+      ->check(CLI::IsMember({"random", "canonical"}))
+      ->capture_default_str();
+  cli.add_option("--hand", config.hand, "left or right")->check(CLI::IsMember({"left", "right"}))->capture_default_str();
+  cli.add_option("--label", label, "The tool's label recorded in session.json");
+  cli.add_option("--kinematic-error-mm", kinematic_mm, "Sigma of the recorded hand position per axis (mm)")
+      ->capture_default_str();
+  cli.add_option("--kinematic-error-deg", config.kinematic_error_deg, "Sigma of the recorded hand rotation (deg)")
+      ->capture_default_str();
+  cli.add_option("--gross-error", gross_errors,
+                 "VIEW:TRANS_M:ROT_DEG: that view's recorded hand pose is also off by this translation and "
+                 "rotation (random direction and axis); repeatable");
+  cli.add_option("--disparity-noise", config.disparity_noise_px, "Sigma of the disparity (px)")->capture_default_str();
+  cli.add_flag("--no-points", no_points, "Do not write points.pcd");
+  cli.add_flag("--no-blob", no_blob, "Do not write blob.png");
+  cli.add_option("--created", config.created, "The session's creation time (ISO 8601)")->capture_default_str();
+  command.add_output("Session folder to create (must not exist or be empty)");
+  return command.run(argc, argv, [&] {
+    if (model_file.empty()) {
+      config.shape = toolinc::default_shape(toolinc::family_from_string(family));
+    } else {
+      config.model = toolinc::load_cloud(model_file);
+      config.model_name = std::filesystem::path(model_file).filename().string();
+      config.model_symmetry = symmetry_from_string(symmetry);
+    }
+    if (grasp == "random") {
+      toolinc::Rng rng(config.seed);
+      config.hand_from_canonical = toolinc::random_grasp({}, rng);
+    }
+    if (!label.empty()) config.tool_label = label;
+    config.kinematic_error_m = kinematic_mm / 1000.0;
+    for (const auto& text : gross_errors) config.gross_errors.push_back(parse_gross_error(text));
+    config.write_points = !no_points;
+    config.write_blob = !no_blob;
+    const toolinc::SimulatedSession session = toolinc::simulate_session(config);
+    toolinc::write_session(command.output(), session.info, session.views, session.ground_truth);
+    spdlog::info("{} views -> {}", session.views.size(), command.output());
+  });
+}

@@ -1,0 +1,44 @@
+// Merging the exploration views of a tool, all in the hand frame, into one model (paper sect. 3): each
+// view is refined against the model built so far by robust ICP (the first view is the reference), and
+// a view whose correction is implausible is rejected, with the reason, never silently.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "toolinc/registration/icp.hpp"
+
+namespace toolinc {
+
+struct MergeConfig {
+  IcpConfig icp;
+  double voxel_size = 0.002;         // m: the model's grid (the original's 2 mm)
+  double max_translation = 0.10;     // m per axis: the original's feasibility check
+  double max_rotation_deg = 20.0;    // the original checks none, and so accepts flipped views
+  double min_inlier_ratio = 0.4;     // share of a view's points that must land on the model
+  int min_points = 300;              // a view with fewer points is rejected (the original's floor)
+  double clean_radius = 0.01;        // m: stray points with fewer than clean_min_neighbors within
+  int clean_min_neighbors = 20;      //    clean_radius are removed at the end (the original's values)
+};
+
+struct ViewMerge {
+  bool accepted = false;
+  std::string reason;                       // why rejected, or "aligned"
+  Eigen::Matrix4d correction = Eigen::Matrix4d::Identity();  // model_from_view found by ICP
+  double translation_m[3] = {0, 0, 0};
+  double rotation_deg = 0.0;
+  double inlier_ratio = 0.0, inlier_rmse = 0.0;
+  int iterations = 0;
+  int points = 0;
+};
+
+struct MergeResult {
+  Points model;                     // in the hand frame estimated as the mean of the accepted views'
+  Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the first view's
+  std::vector<ViewMerge> views;
+};
+
+// Throws MethodError when the reference (first) view has fewer than min_points points.
+MergeResult merge_views(const std::vector<Points>& views, const MergeConfig& config = {});
+
+}  // namespace toolinc

@@ -1,0 +1,94 @@
+// A recorded session made offline: the exploration of original-method.md sect. 3-4 (turnHand poses, the
+// left eye fixating the tool) rendered with a z-buffer into what the robot records: the left image, the
+// stereo module's 8-bit disparity, the closest-blob mask and the organised root-frame cloud, with the
+// hand poses the kinematics would report (off by a small error, or a gross one where asked), plus the
+// ground truth. Deterministic for a seed.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "toolinc/core/point_cloud.hpp"
+#include "toolinc/io/json_file.hpp"
+#include "toolinc/session/session.hpp"
+#include "toolinc/synth/tool_generator.hpp"
+
+namespace toolinc {
+
+// An iCub eye at 320x240: fx = fy = 257.3 px, principal point at the centre, 6.8 cm baseline, 96 disparities.
+CameraModel icub_camera();
+
+// The original's exploration poses, (wrist X, wrist Y) in degrees: (0,0), (-40,-20), (30,-20), (0,-20), (0,30).
+std::vector<Eigen::Vector2d> paper_exploration_poses();
+
+// A grossly wrong recorded hand pose for one view: a translation of `translation` metres along a random
+// direction and a rotation of `rotation_deg` about a random axis, both drawn from the session's seed.
+struct GrossError {
+  std::size_t view = 0;
+  double translation = 0.0;    // m
+  double rotation_deg = 0.0;
+};
+
+struct SessionSimulatorConfig {
+  // The tool: a procedural shape, or, when `model` is not empty, that cloud in the canonical pose
+  // (design.md) with the symmetry given here; model_name is recorded in the ground truth.
+  ToolShape shape = default_shape(ToolFamily::hoe);
+  PointCloud model;
+  std::string model_name;
+  ToolSymmetry model_symmetry = ToolSymmetry::mirror;
+  Eigen::Matrix4d hand_from_canonical = Eigen::Matrix4d::Identity();  // the grasp
+  std::string hand = "right";                                          // "left" | "right"
+  std::optional<std::string> tool_label;
+  std::vector<Eigen::Vector2d> poses = paper_exploration_poses();      // wrist (X, Y) degrees per view
+
+  // Recorded root_from_hand = true * error, per view: N(0, kinematic_error_m) per axis and a rotation of
+  // N(0, kinematic_error_deg) about a random axis (the arm's calibration and encoder errors).
+  double kinematic_error_m = 0.003;
+  double kinematic_error_deg = 1.5;
+  std::vector<GrossError> gross_errors;  // applied on top of the kinematic error
+
+  double disparity_noise_px = 0.15;  // Gaussian, on the sub-pixel disparity (depth sigma = z^2 sigma / (fx b))
+  double pixel_noise = 2.0;          // Gaussian per colour channel of left.png, in grey levels
+  bool write_points = true;          // points.pcd
+  bool write_blob = true;            // blob.png and the view's blob record
+
+  CameraModel camera = icub_camera();
+  // The left eye in the root frame, the head bent down towards the hand about 46 cm away: at 320x240
+  // (50 deg vertical field) a 30 cm tool pointing up at the head fits whole only from about this far.
+  Eigen::Vector3d eye_position{-0.02, -0.034, 0.46};
+  // The hand, as an axis-aligned box in the hand frame around the palm and the closed fingers: 9 cm
+  // across the palm (X), 7 cm along the handle covering its first 5 cm (Y), 4 cm thick (Z); grown to
+  // enclose the handle's first 5 cm when the grasp puts the handle elsewhere.
+  Eigen::Vector3d hand_box_min{-0.045, -0.05, -0.02};
+  Eigen::Vector3d hand_box_max{0.045, 0.02, 0.02};
+  double table_height = -0.05;  // root z of the table top
+  double wall_distance = 1.0;   // a wall across root x = -wall_distance, in front of the robot
+  double render_spacing = 0.0007;  // m, surface sampling of a procedural tool for rendering
+
+  std::string created = "2026-01-01T00:00:00Z";
+  std::uint32_t seed = 1;
+};
+
+struct SimulatedSession {
+  SessionInfo info;
+  std::vector<ViewData> views;
+  std::vector<Eigen::Matrix4d> true_root_from_hand;  // per view, without the kinematic and gross errors
+  Json ground_truth;                                 // also holds true_root_from_hand
+};
+
+// turnHand's target: hand at (-0.25, +-0.15, 0.10) in the root frame, rotation Rh * Rx(X) * Ry(Y) with the
+// tool (hand -Y) pointing up; the rotations' signs are negated for the left hand, as in the original.
+Eigen::Matrix4d exploration_hand_pose(const std::string& hand, const Eigen::Vector2d& wrist_deg);
+
+// root_from_camera of an eye at `eye` looking at `target`: optical z towards it, x to the image's right
+// (horizontal in the root frame), y down.
+Eigen::Matrix4d camera_looking_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
+// Throws std::invalid_argument on a bad hand name, an empty pose list, a gross error for a view that does
+// not exist, or a grasp that is not rigid.
+SimulatedSession simulate_session(const SessionSimulatorConfig& config);
+
+}  // namespace toolinc

@@ -1,0 +1,84 @@
+#include "toolinc/registration/merge_views.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <Eigen/SVD>
+#include <cmath>
+
+#include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/core/rigid.hpp"
+
+namespace toolinc {
+
+MergeResult merge_views(const std::vector<Points>& views, const MergeConfig& config) {
+  if (views.empty()) throw MethodError("no views to merge");
+  if (static_cast<int>(views[0].size()) < config.min_points)
+    throw MethodError(fmt::format("the reference view has only {} points, at least {} needed", views[0].size(),
+                                  config.min_points));
+  MergeResult result;
+  Points accumulated = views[0];
+  result.views.push_back({true, "reference", Eigen::Matrix4d::Identity(), {0, 0, 0}, 0.0, 1.0, 0.0, 0,
+                          static_cast<int>(views[0].size())});
+  for (std::size_t v = 1; v < views.size(); ++v) {
+    ViewMerge merge;
+    merge.points = static_cast<int>(views[v].size());
+    if (merge.points < config.min_points) {
+      merge.reason = fmt::format("too few points ({} < {})", merge.points, config.min_points);
+      result.views.push_back(merge);
+      continue;
+    }
+    const IcpTarget target(voxel_downsample(accumulated, config.voxel_size));
+    const IcpResult icp = align_point_to_plane(voxel_downsample(views[v], config.voxel_size), target,
+                                               Eigen::Matrix4d::Identity(), config.icp);
+    merge.correction = icp.target_from_source;
+    for (int i = 0; i < 3; ++i) merge.translation_m[i] = icp.target_from_source(i, 3);
+    merge.rotation_deg = rotation_angle_deg(icp.target_from_source.topLeftCorner<3, 3>());
+    merge.inlier_ratio = icp.inlier_ratio;
+    merge.inlier_rmse = icp.inlier_rmse;
+    merge.iterations = icp.iterations;
+    const double worst_axis = icp.target_from_source.topRightCorner<3, 1>().cwiseAbs().maxCoeff();
+    if (worst_axis > config.max_translation)
+      merge.reason = fmt::format("correction of {:.3f} m along an axis exceeds {} m", worst_axis, config.max_translation);
+    else if (merge.rotation_deg > config.max_rotation_deg)
+      merge.reason = fmt::format("correction of {:.1f} deg exceeds {} deg", merge.rotation_deg, config.max_rotation_deg);
+    else if (icp.inlier_ratio < config.min_inlier_ratio)
+      merge.reason = fmt::format("only {:.0f}% of the view lands on the model after alignment (min {:.0f}%)",
+                                 100 * icp.inlier_ratio, 100 * config.min_inlier_ratio);
+    else {
+      merge.accepted = true;
+      merge.reason = "aligned";
+      const Points aligned = transform_points(views[v], icp.target_from_source);
+      accumulated.insert(accumulated.end(), aligned.begin(), aligned.end());
+    }
+    result.views.push_back(merge);
+  }
+  // The reference view carries its own kinematic error; the views' errors are independent and zero-mean,
+  // so the mean of the accepted views' frames is a better estimate of the hand frame than any one of them.
+  Eigen::Matrix3d rotation_sum = Eigen::Matrix3d::Zero();
+  Vec3 translation_sum = Vec3::Zero();
+  int accepted = 0;
+  for (const auto& merge : result.views)
+    if (merge.accepted) {
+      rotation_sum += merge.correction.topLeftCorner<3, 3>();
+      translation_sum += merge.correction.topRightCorner<3, 1>();
+      ++accepted;
+    }
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rotation_sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d mean_rotation = svd.matrixU() * svd.matrixV().transpose();
+  if (mean_rotation.determinant() < 0) {
+    Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
+    flip(2, 2) = -1;
+    mean_rotation = svd.matrixU() * flip * svd.matrixV().transpose();
+  }
+  Eigen::Matrix4d mean_frame = Eigen::Matrix4d::Identity();
+  mean_frame.topLeftCorner<3, 3>() = mean_rotation;
+  mean_frame.topRightCorner<3, 1>() = translation_sum / accepted;
+  result.hand_from_reference = mean_frame.inverse();
+  result.model = remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference),
+                                                  config.voxel_size),
+                                 config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
+  return result;
+}
+
+}  // namespace toolinc
