@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     }
     if (grasp == "random") {
       toolinc::Rng rng(config.seed);
-      config.hand_from_canonical = toolinc::random_grasp({}, rng);
+      config.hand_from_canonical = toolinc::random_grasp(toolinc::exploration_grasp_range(), rng);
     }
     if (!label.empty()) config.tool_label = label;
     config.kinematic_error_m = kinematic_mm / 1000.0;

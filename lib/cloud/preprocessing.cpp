@@ -49,8 +49,10 @@ Points remove_isolated(const Points& points, double radius, std::size_t min_neig
   return out;
 }
 
-Points remove_statistical_outliers(const Points& points, int k, double std_multiplier) {
-  if (points.size() <= static_cast<std::size_t>(k)) return points;
+std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, double std_multiplier) {
+  std::vector<std::uint32_t> kept(points.size());
+  std::iota(kept.begin(), kept.end(), 0u);
+  if (points.size() <= static_cast<std::size_t>(k)) return kept;
   const KdTree tree(points);
   std::vector<double> mean_distance(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -64,10 +66,15 @@ Points remove_statistical_outliers(const Points& points, int k, double std_multi
   double var = 0.0;
   for (double d : mean_distance) var += (d - mean) * (d - mean);
   const double threshold = mean + std_multiplier * std::sqrt(var / (n - 1.0));
+  kept.clear();
+  for (std::uint32_t i = 0; i < points.size(); ++i)
+    if (mean_distance[i] <= threshold) kept.push_back(i);
+  return kept;
+}
+
+Points remove_statistical_outliers(const Points& points, int k, double std_multiplier) {
   Points out;
-  out.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (mean_distance[i] <= threshold) out.push_back(points[i]);
+  for (auto i : statistical_inliers(points, k, std_multiplier)) out.push_back(points[i]);
   return out;
 }
 

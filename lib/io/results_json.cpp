@@ -141,4 +141,28 @@ Vec3 read_tooltip_position(const std::string& path) {
   return vector3_field(json, "position", path);
 }
 
+Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const std::string& failure) {
+  Json views = Json::array();
+  for (std::size_t v = 0; v < merged.views.size(); ++v) {
+    const ViewMerge& m = merged.views[v];
+    views.push_back({{"file", inputs[v]},
+                     {"accepted", m.accepted},
+                     {"reason", m.reason},
+                     {"points", m.points},
+                     {"correction", {{"matrix", to_json(m.correction)},
+                                     {"translation_m", {m.translation_m[0], m.translation_m[1], m.translation_m[2]}},
+                                     {"rotation_deg", m.rotation_deg}}},
+                     {"inlier_ratio", m.inlier_ratio},
+                     {"inlier_rmse_m", m.inlier_rmse},
+                     {"iterations", m.iterations}});
+  }
+  return {{"type", "merge_report"},
+          {"version", 1},
+          {"ok", failure.empty()},
+          {"failure", failure},
+          {"views", views},
+          {"hand_from_reference", to_json(merged.hand_from_reference)},
+          {"model_points", merged.model.size()}};
+}
+
 }  // namespace toolinc

@@ -11,16 +11,27 @@ constexpr double kDeg = M_PI / 180.0;
 
 Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng) {
   const double about = rng.uniform(-1, 1) * range.about_handle_deg * kDeg;
-  const double tilt = rng.uniform(-1, 1) * range.tilt_deg * kDeg;
+  const double tilt = (range.tilt_centre_deg + rng.uniform(-1, 1) * range.tilt_deg) * kDeg;
   const double roll = rng.uniform(-1, 1) * range.roll_deg * kDeg;
   Vec3 offset;
-  for (int i = 0; i < 3; ++i) offset[i] = rng.uniform(-1, 1) * range.offset;
+  for (int i = 0; i < 3; ++i) offset[i] = range.offset_centre[i] + rng.uniform(-1, 1) * range.offset;
   Eigen::Matrix4d grasp = Eigen::Matrix4d::Identity();
   grasp.topLeftCorner<3, 3>() = (Eigen::AngleAxisd(tilt, Vec3::UnitZ()) * Eigen::AngleAxisd(roll, Vec3::UnitX()) *
                                  Eigen::AngleAxisd(about, Vec3::UnitY()))
                                     .toRotationMatrix();
   grasp.topRightCorner<3, 1>() = offset;
   return grasp;
+}
+
+GraspRange exploration_grasp_range() {
+  GraspRange range;
+  range.about_handle_deg = 90.0;
+  range.tilt_centre_deg = 22.5;
+  range.tilt_deg = 22.5;
+  range.roll_deg = 10.0;
+  range.offset_centre = Vec3(0.035, 0.0, 0.0);
+  range.offset = 0.015;
+  return range;
 }
 
 Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from_canonical, double hand_radius,

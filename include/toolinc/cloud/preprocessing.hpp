@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "toolinc/core/point_cloud.hpp"
 
@@ -22,6 +24,8 @@ Points remove_isolated(const Points& points, double radius, std::size_t min_neig
 // PCL-style statistical outlier removal: drops points whose mean distance to their k nearest
 // neighbours exceeds the global mean of that statistic by more than std_multiplier deviations.
 Points remove_statistical_outliers(const Points& points, int k, double std_multiplier);
+// The same test, as the indices of the points it keeps (so attributes can follow their points).
+std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, double std_multiplier);
 
 // Unit normals from the covariance of each point's k nearest neighbours (sign arbitrary).
 Points estimate_normals(const Points& points, int k);

@@ -6,6 +6,7 @@
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/registration/merge_views.hpp"
 #include "toolinc/synth/grasp.hpp"
 
 namespace toolinc {
@@ -20,6 +21,10 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
 // Ground truth of a synthetic held tool: the grasp, the true tool frame and tooltip(s) in the hand frame.
 Json ground_truth_json(const ToolGroundTruth& truth, const ToolShape& shape);
 ToolGroundTruth read_ground_truth(const std::string& path);
+
+// The merge report: per input view accepted or rejected, its correction and why; `failure` non-empty
+// when the merge as a whole failed (then "ok" is false).
+Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const std::string& failure);
 // Reads the "position" of a tooltip file.
 Vec3 read_tooltip_position(const std::string& path);
 

@@ -12,13 +12,21 @@ namespace toolinc {
 
 struct GraspRange {
   double about_handle_deg = 90.0;  // rotation about the handle, uniform in +/- this
-  double tilt_deg = 45.0;          // about the hand's Z
+  double tilt_deg = 45.0;          // about the hand's Z, uniform in tilt_centre_deg +/- this
   double roll_deg = 15.0;          // about the hand's X
-  double offset = 0.05;            // m, uniform in +/- this along each axis
+  double offset = 0.05;            // m, uniform in offset_centre +/- this along each axis
+  double tilt_centre_deg = 0.0;
+  Vec3 offset_centre = Vec3::Zero();
 };
 
 // hand_from_canonical = Translation(offset) * Rz(tilt) * Rx(roll) * Ry(about handle).
 Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng);
+
+// Grasps as the robot gets them during exploration: the handle held in the fingers, 2-5 cm in front of
+// the palm (+X, as in the original's reconstructions), leaning forward by 0-45 degrees (the original's
+// default tilt is 45), any rotation about the handle within +/-90 degrees. The tool then lies in the
+// original's crop box.
+GraspRange exploration_grasp_range();
 
 // The tool as the hand frame sees it: moved by the grasp, the points within hand_radius of the hand
 // origin removed (the hand hides them), Gaussian noise of sigma metres added per coordinate.

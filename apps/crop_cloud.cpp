@@ -1,0 +1,67 @@
+// crop-cloud SESSION [--view N | --all] -o OUT: the tool's points of recorded views, in the hand frame.
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+
+#include "toolinc/app/command.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/io/cloud_io.hpp"
+#include "toolinc/io/json_file.hpp"
+#include "toolinc/session/crop.hpp"
+
+int main(int argc, char** argv) {
+  toolinc::Command command("crop-cloud", "Crop the tool's points of recorded views into the hand frame");
+  std::string session_dir;
+  int view = 0;
+  bool all = false, ascii = false;
+  toolinc::CropConfig config;
+  std::vector<double> box_min{config.box_min.x(), config.box_min.y(), config.box_min.z()};
+  std::vector<double> box_max{config.box_max.x(), config.box_max.y(), config.box_max.z()};
+  auto& cli = command.cli();
+  cli.add_option("session", session_dir, "Session folder")->required();
+  auto* view_option = cli.add_option("--view", view, "The view to crop (index in session.json)")->capture_default_str();
+  cli.add_flag("--all", all, "Crop every view into the output folder (view_NNN.ply)")->excludes(view_option);
+  command.add_output("Output PLY, or a folder with --all");
+  cli.add_option("--box-min", box_min, "Hand-frame crop box minimum x y z (m; right hand, mirrored in z for the left)")
+      ->expected(3)->capture_default_str();
+  cli.add_option("--box-max", box_max, "Hand-frame crop box maximum x y z (m)")->expected(3)->capture_default_str();
+  cli.add_option("--hand-radius", config.hand_radius, "Points this close to the hand origin are the hand's (m)")
+      ->capture_default_str();
+  cli.add_option("--outlier-neighbors", config.outlier_neighbors, "Statistical outlier removal: k")->capture_default_str();
+  cli.add_option("--outlier-std", config.outlier_std, "Statistical outlier removal: deviations")->capture_default_str();
+  cli.add_option("--min-points", config.min_points, "Fewer points left is a failure (exit 3)")->capture_default_str();
+  cli.add_flag("--flood", config.flood, "Keep only the region 3D-connected to the blob's centre");
+  cli.add_option("--flood-distance", config.flood_distance, "3D continuity of the flood (m)")->capture_default_str();
+  cli.add_flag("--ascii", ascii, "Write ASCII PLY");
+  return command.run(argc, argv, [&] {
+    config.box_min = Eigen::Vector3d(box_min[0], box_min[1], box_min[2]);
+    config.box_max = Eigen::Vector3d(box_max[0], box_max[1], box_max[2]);
+    const auto session = toolinc::read_session(session_dir);
+    std::vector<std::size_t> views;
+    if (all) {
+      for (std::size_t v = 0; v < session.views.size(); ++v) views.push_back(v);
+      std::filesystem::create_directories(command.output());
+    } else {
+      if (view < 0 || static_cast<std::size_t>(view) >= session.views.size())
+        throw toolinc::InputError(session_dir, fmt::format("no view {} (the session has {})", view, session.views.size()));
+      views.push_back(static_cast<std::size_t>(view));
+    }
+    int failed = 0;
+    for (std::size_t v : views) {
+      const auto& record = session.views[v];
+      try {
+        const auto crop = toolinc::crop_view(session, record, toolinc::read_view(session_dir, session, v), config);
+        const std::string out = all ? fmt::format("{}/view_{:03d}.ply", command.output(), v) : command.output();
+        toolinc::write_ply(out, crop.cloud, {ascii, command.command_line()});
+        spdlog::info("{}: {} points ({}; {}) -> {}", record.dir, crop.cloud.size(), crop.mask_source,
+                     crop.points_source, out);
+      } catch (const toolinc::MethodError& e) {
+        if (!all) throw;
+        spdlog::warn("{}", e.what());  // one bad view must not lose the others
+        ++failed;
+      }
+    }
+    if (failed == static_cast<int>(views.size()))
+      throw toolinc::MethodError(fmt::format("{}: no view could be cropped", session_dir));
+  });
+}

@@ -1,0 +1,46 @@
+// merge-views VIEW.ply... -o MODEL.ply [--report REPORT.json]: one tool model from the exploration views.
+#include <spdlog/spdlog.h>
+
+#include "toolinc/app/command.hpp"
+#include "toolinc/app/options.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/io/cloud_io.hpp"
+#include "toolinc/io/results_json.hpp"
+#include "toolinc/registration/merge_views.hpp"
+
+int main(int argc, char** argv) {
+  toolinc::Command command("merge-views", "Merge hand-frame views of a tool into one model");
+  std::vector<std::string> inputs;
+  std::string report_file;
+  bool ascii = false;
+  toolinc::MergeConfig config;
+  auto& cli = command.cli();
+  cli.add_option("views", inputs, "View clouds in the hand frame; the first is the reference")->required();
+  command.add_output("Output model PLY");
+  cli.add_option("--report", report_file, "Merge report JSON: per view accepted or rejected, correction, why");
+  cli.add_option("--voxel-size", config.voxel_size, "Model grid (m)")->capture_default_str();
+  cli.add_option("--max-translation", config.max_translation, "Largest correction per axis (m)")->capture_default_str();
+  cli.add_option("--max-rotation-deg", config.max_rotation_deg, "Largest correction rotation (deg)")->capture_default_str();
+  cli.add_option("--min-inlier-ratio", config.min_inlier_ratio, "Share of a view that must land on the model")
+      ->capture_default_str();
+  cli.add_option("--min-points", config.min_points, "A view with fewer points is rejected")->capture_default_str();
+  cli.add_option("--max-correspondence", config.icp.max_correspondence, "ICP correspondence radius (m)")
+      ->capture_default_str();
+  cli.add_flag("--ascii", ascii, "Write ASCII PLY");
+  return command.run(argc, argv, [&] {
+    std::vector<toolinc::Points> views;
+    for (const auto& input : inputs) views.push_back(toolinc::load_cloud(input).points);
+    toolinc::MergeResult merged;
+    try {
+      merged = toolinc::merge_views(views, config);
+    } catch (const toolinc::MethodError& e) {
+      if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, {}, e.what()));
+      throw;
+    }
+    for (std::size_t v = 0; v < merged.views.size(); ++v)
+      spdlog::info("{}: {} ({})", inputs[v], merged.views[v].accepted ? "accepted" : "REJECTED", merged.views[v].reason);
+    toolinc::write_ply(command.output(), {merged.model, {}, {}, "hand"}, {ascii, command.command_line()});
+    if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, merged, ""));
+    spdlog::info("{} points -> {}", merged.model.size(), command.output());
+  });
+}

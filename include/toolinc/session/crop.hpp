@@ -1,0 +1,42 @@
+// crop-cloud's core: one recorded view -> the tool's points in the hand frame (paper sect. 3,
+// original-method.md sect. 1-2).
+#pragma once
+
+#include <string>
+
+#include "toolinc/core/point_cloud.hpp"
+#include "toolinc/session/blob.hpp"
+#include "toolinc/session/session.hpp"
+
+namespace toolinc {
+
+struct CropConfig {
+  // The hand-frame box the tool can occupy (the original's crop, inclusive); for the left hand its Z
+  // range is mirrored (z -> -z), since the hands' frames are mirror images about the body's midplane.
+  Eigen::Vector3d box_min{0.0, -0.30, -0.15};
+  Eigen::Vector3d box_max{0.35, 0.0, 0.15};
+  double hand_radius = 0.08;      // m: points this close to the hand origin are the hand's (exploration value)
+  int outlier_neighbors = 10;     // statistical outlier removal: k ...
+  double outlier_std = 3.0;       // ... and the deviations allowed (the original's k 10, 3 sigma)
+  int min_points = 300;           // fewer left is a failure (exit 3)
+  bool flood = false;             // grow the region from the blob's centre through 3D continuity
+  double flood_distance = 0.004;  // m: neighbouring points closer than this are connected (SFM's Flood3D)
+  BlobDetectorConfig blob;        // used when the view has no blob.png
+};
+
+struct CropResult {
+  PointCloud cloud;              // hand frame, with the left image's colours
+  std::string mask_source;       // "blob.png" or "closest blob on the disparity"
+  std::string points_source;     // "points.pcd" or "disparity reprojection (approximate)"
+  int mask_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
+};
+
+// Throws MethodError when the mask is empty or fewer than min_points remain.
+CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
+                     const CropConfig& config = {});
+
+// The root-frame point of pixel (u, v) reprojected from an 8-bit disparity value with the camera model
+// (NaN when the value is 0). Approximate: the value is quantised to num_disparities / 255 px.
+Vec3 reproject_disparity(const CameraModel& camera, const Eigen::Matrix4d& root_from_camera, int u, int v, int value);
+
+}  // namespace toolinc

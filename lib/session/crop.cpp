@@ -1,0 +1,127 @@
+#include "toolinc/session/crop.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <queue>
+
+#include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/core/error.hpp"
+
+namespace toolinc {
+
+Vec3 reproject_disparity(const CameraModel& camera, const Eigen::Matrix4d& root_from_camera, int u, int v, int value) {
+  if (value <= 0) return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  const double z = camera.fx * camera.baseline / camera.disparity_px(value);
+  const Vec3 in_camera((u - camera.cx) * z / camera.fx, (v - camera.cy) * z / camera.fy, z);
+  return root_from_camera.topLeftCorner<3, 3>() * in_camera + root_from_camera.topRightCorner<3, 1>();
+}
+
+namespace {
+
+// Keeps the mask pixels 8-connected to the seed through 3D points closer than `distance` to each other
+// (region growing with local continuity, as the stereo module's Flood3D).
+cv::Mat flood_3d(const cv::Mat& mask, const std::vector<Vec3>& root_points, double distance) {
+  const int w = mask.cols, h = mask.rows;
+  const auto valid = [&](int i) { return mask.data[i] && root_points[i].allFinite(); };
+  cv::Moments m = cv::moments(mask, true);
+  if (m.m00 <= 0) return mask;
+  const cv::Point centre(static_cast<int>(m.m10 / m.m00), static_cast<int>(m.m01 / m.m00));
+  int seed = -1;
+  long best = std::numeric_limits<long>::max();
+  for (int i = 0; i < w * h; ++i)
+    if (valid(i)) {
+      const long d = static_cast<long>(i % w - centre.x) * (i % w - centre.x) + static_cast<long>(i / w - centre.y) * (i / w - centre.y);
+      if (d < best) best = d, seed = i;
+    }
+  cv::Mat grown = cv::Mat::zeros(mask.size(), CV_8UC1);
+  if (seed < 0) return grown;
+  std::queue<int> queue;
+  queue.push(seed);
+  grown.data[seed] = 255;
+  while (!queue.empty()) {
+    const int i = queue.front();
+    queue.pop();
+    const int u = i % w, v = i / w;
+    for (int dv = -1; dv <= 1; ++dv)
+      for (int du = -1; du <= 1; ++du) {
+        const int nu = u + du, nv = v + dv, j = nv * w + nu;
+        if (nu < 0 || nv < 0 || nu >= w || nv >= h || grown.data[j] || !valid(j)) continue;
+        if ((root_points[j] - root_points[i]).norm() > distance) continue;
+        grown.data[j] = 255;
+        queue.push(j);
+      }
+  }
+  return grown;
+}
+
+}  // namespace
+
+CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
+                     const CropConfig& config) {
+  CropResult result;
+  const CameraModel& camera = session.camera;
+  cv::Mat mask = view.blob;
+  result.mask_source = "blob.png";
+  if (mask.empty()) {
+    mask = closest_blob_mask(view.disparity, config.blob);
+    result.mask_source = "closest blob on the disparity";
+  }
+  result.mask_pixels = cv::countNonZero(mask);
+  if (result.mask_pixels == 0) throw MethodError(fmt::format("{}: the tool's blob is empty", record.dir));
+
+  // Root-frame points of every pixel: the stereo module's exact ones, or reprojected from the disparity.
+  const int w = camera.width, h = camera.height;
+  std::vector<Vec3> root_points;
+  if (!view.points.empty()) {
+    root_points = view.points;
+    result.points_source = "points.pcd";
+  } else {
+    root_points.resize(static_cast<std::size_t>(w) * h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u)
+        root_points[v * w + u] = reproject_disparity(camera, record.root_from_camera, u, v, view.disparity.at<std::uint8_t>(v, u));
+    result.points_source = "disparity reprojection (approximate)";
+  }
+  if (config.flood) mask = flood_3d(mask, root_points, config.flood_distance);
+
+  const Eigen::Matrix4d hand_from_root = record.root_from_hand.inverse();
+  const Eigen::Matrix3d rotation = hand_from_root.topLeftCorner<3, 3>();
+  const Vec3 translation = hand_from_root.topRightCorner<3, 1>();
+  Vec3 box_min = config.box_min, box_max = config.box_max;
+  if (session.hand == "left") {
+    box_min.z() = -config.box_max.z();
+    box_max.z() = -config.box_min.z();
+  }
+  PointCloud kept;
+  kept.frame = "hand";
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const int i = v * w + u;
+      if (!mask.data[i] || !root_points[i].allFinite()) continue;
+      ++result.points_3d;
+      const Vec3 p = rotation * root_points[i] + translation;
+      if ((p.array() < box_min.array()).any() || (p.array() > box_max.array()).any()) continue;
+      ++result.in_box;
+      if (p.norm() <= config.hand_radius) continue;
+      kept.points.push_back(p);
+      const cv::Vec3b bgr = view.left.at<cv::Vec3b>(v, u);
+      kept.colors.push_back({bgr[2], bgr[1], bgr[0]});
+    }
+  result.outside_hand = static_cast<int>(kept.size());
+
+  result.cloud.frame = "hand";
+  for (auto i : statistical_inliers(kept.points, config.outlier_neighbors, config.outlier_std)) {
+    result.cloud.points.push_back(kept.points[i]);
+    result.cloud.colors.push_back(kept.colors[i]);
+  }
+  if (static_cast<int>(result.cloud.size()) < config.min_points)
+    throw MethodError(fmt::format("{}: only {} tool points left after cropping (mask {} px, 3D {}, in box {}, "
+                                  "outside the hand {}), at least {} needed",
+                                  record.dir, result.cloud.size(), result.mask_pixels, result.points_3d, result.in_box,
+                                  result.outside_hand, config.min_points));
+  return result;
+}
+
+}  // namespace toolinc
