@@ -28,8 +28,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");
   return command.run(argc, argv, [&] {
-    std::vector<toolinc::Points> views;
-    for (const auto& input : inputs) views.push_back(toolinc::load_cloud(input).points);
+    std::vector<toolinc::PointCloud> views;
+    for (const auto& input : inputs) views.push_back(toolinc::load_cloud(input));
     toolinc::MergeResult merged;
     try {
       merged = toolinc::merge_views(views, config);
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     }
     for (std::size_t v = 0; v < merged.views.size(); ++v)
       spdlog::info("{}: {} ({})", inputs[v], merged.views[v].accepted ? "accepted" : "REJECTED", merged.views[v].reason);
-    toolinc::write_ply(command.output(), {merged.model, {}, {}, "hand"}, {ascii, command.command_line()});
+    toolinc::write_ply(command.output(), merged.model, {ascii, command.command_line()});
     if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, merged, ""));
     spdlog::info("{} points -> {}", merged.model.size(), command.output());
   });

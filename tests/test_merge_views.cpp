@@ -35,14 +35,16 @@ Eigen::Matrix4d rigid(double angle_deg, const Vec3& axis, const Vec3& translatio
 
 // The view as recorded: points facing `towards` (a direction in the hand frame), expressed in a hand
 // frame that is off by `recorded_error` (hand_true_from_hand_recorded).
-Points partial_view(const PointCloud& model, const Eigen::Matrix4d& grasp, const Vec3& towards,
+PointCloud partial_view(const PointCloud& model, const Eigen::Matrix4d& grasp, const Vec3& towards,
                     const Eigen::Matrix4d& recorded_error, Rng& rng) {
   const Eigen::Matrix3d r = grasp.topLeftCorner<3, 3>();
   Points facing;
   for (std::size_t i = 0; i < model.size(); ++i)
     if ((r * model.normals[i]).dot(towards) > 0.2) facing.push_back(model.points[i]);
   const Points in_hand = observe_in_hand(facing, grasp, 0.06, 0.0015, rng);
-  return transform_points(in_hand, recorded_error.inverse());
+  PointCloud view;
+  view.points = transform_points(in_hand, recorded_error.inverse());
+  return view;
 }
 
 const std::vector<Vec3> kViewDirections = {Vec3(1, 0, 0.3), Vec3(0.6, 0.3, 0.8), Vec3(0.6, -0.3, -0.8),
@@ -65,14 +67,14 @@ TEST(MergeViews, EveryFamilyWithKinematicError) {
     for (int g = 0; g < 10; ++g) {
       const auto held = make_held_tool(family, 500u + g);
       Rng rng(900u + g);
-      std::vector<Points> views;
+      std::vector<PointCloud> views;
       for (const auto& direction : kViewDirections)
         views.push_back(partial_view(held.model, held.grasp, direction.normalized(), perturbation(rng, 0.003, 1.5), rng));
       const MergeResult merged = merge_views(views);
       for (const auto& v : merged.views) EXPECT_TRUE(v.accepted) << to_string(family) << " " << g << ": " << v.reason;
       Rng clean(1);
       const Points truth = observe_in_hand(held.model.points, held.grasp, 0.06, 0.0, clean);
-      chamfers.push_back(median_chamfer(merged.model, voxel_downsample(truth, 0.002)));
+      chamfers.push_back(median_chamfer(merged.model.points, voxel_downsample(truth, 0.002)));
       EXPECT_LT(chamfers.back(), 0.004) << to_string(family) << " grasp " << g;
     }
   }
@@ -86,7 +88,7 @@ TEST(MergeViews, GrossErrorsAreRejectedAndTheRestMerged) {
   for (int g = 0; g < 6; ++g) {
     const auto held = make_held_tool(g % 2 ? ToolFamily::hoe : ToolFamily::rake, 40u + g);
     Rng rng(70u + g);
-    std::vector<Points> views;
+    std::vector<PointCloud> views;
     for (std::size_t k = 0; k < kViewDirections.size(); ++k) {
       Eigen::Matrix4d error = perturbation(rng, 0.003, 1.5);
       if (k == 2) error = error * rigid(0, Vec3::UnitX(), Vec3(0.15, 0, 0) * (g % 3 == 0 ? 1 : 0) + Vec3(0, 0, 0));
@@ -100,10 +102,11 @@ TEST(MergeViews, GrossErrorsAreRejectedAndTheRestMerged) {
 }
 
 TEST(MergeViews, TooFewPoints) {
-  Points few(200, Vec3(0.1, -0.1, 0));
+  PointCloud few, whole;
+  few.points.assign(200, Vec3(0.1, -0.1, 0));
   EXPECT_THROW(merge_views({few}), MethodError);
-  const auto held = make_held_tool(ToolFamily::hoe, 1);
-  const MergeResult merged = merge_views({held.observed, few});
+  whole.points = make_held_tool(ToolFamily::hoe, 1).observed;
+  const MergeResult merged = merge_views({whole, few});
   EXPECT_FALSE(merged.views[1].accepted);
   EXPECT_NE(merged.views[1].reason.find("too few"), std::string::npos);
 }

@@ -5,8 +5,9 @@
 
 namespace toolinc {
 
-SymmetryScorer::SymmetryScorer(const Points& points, std::size_t samples, double tolerance)
-    : points_(points), tree_(points), tolerance_(tolerance) {
+SymmetryScorer::SymmetryScorer(const Points& points, std::size_t samples, double tolerance,
+                               const FreeSpace* free_space, double unseen_score)
+    : points_(points), tree_(points), tolerance_(tolerance), free_space_(free_space), unseen_score_(unseen_score) {
   const std::size_t n = points.size();
   const std::size_t count = std::min(n, std::max<std::size_t>(samples, 1));
   samples_.reserve(count);
@@ -20,7 +21,10 @@ double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) con
     const Vec3& p = points_[index];
     const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
     const auto nearest = tree_.nearest(mirrored, tolerance_);
-    sum += nearest.index == KdTree::npos ? 1.0 : std::sqrt(nearest.distance2) / tolerance_;
+    if (nearest.index != KdTree::npos)
+      sum += std::sqrt(nearest.distance2) / tolerance_;
+    else
+      sum += free_space_ == nullptr || free_space_->seen(mirrored) ? 1.0 : unseen_score_;
   }
   return sum / static_cast<double>(samples_.size());
 }

@@ -159,7 +159,7 @@ Eigen::Matrix4d ToolFrame::hand_from_tool() const {
   return m;
 }
 
-ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config) {
+ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints) {
   ToolFrame frame;
   const Points outside = remove_within(input, Vec3::Zero(), config.hand_radius);
   const Points cloud = outside.empty() ? Points{}
@@ -192,9 +192,13 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   u.normalize();
   const Vec3 v = y_axis.cross(u);
   const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
+  const FreeSpace free_space(cloud, viewpoints);
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                              config.symmetry_tolerance);
-  const Vec3& centre = principal.centroid;
+                              config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space,
+                              config.unseen_score);
+  // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
+  // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
+  const Vec3& centre = handle.point;
   const double step = config.symmetry_step_deg * kDeg;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
     frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), scorer.score(normal_at(angle), centre)});
@@ -210,7 +214,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   for (std::size_t i = 0; i < n; ++i) {
     const bool local_minimum = sweep[i].score <= sweep[(i + n - 1) % n].score && sweep[i].score <= sweep[(i + 1) % n].score;
     if (!local_minimum || sweep[i].score > best_score + config.symmetry_tie_margin) continue;
-    const Reach r = effector_reach(cloud, centre, handle.point, y_axis, y_axis.cross(sweep[i].normal),
+    const Reach r = effector_reach(cloud, principal.centroid, handle.point, y_axis, y_axis.cross(sweep[i].normal),
                                    config.salience_quantile);
     if (std::max(r.positive, r.negative) > best_reach) {
       best_reach = std::max(r.positive, r.negative);
@@ -228,11 +232,11 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const Vec3 z_normal = normal_at(best_angle);
   frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
   frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
-  frame.across_handle_score = scorer.score(y_axis, centre);
+  frame.across_handle_score = scorer.score(y_axis, principal.centroid);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();
-  Reach reach = effector_reach(cloud, centre, handle.point, y_axis, x_axis, config.salience_quantile);
+  Reach reach = effector_reach(cloud, principal.centroid, handle.point, y_axis, x_axis, config.salience_quantile);
   if (reach.negative > reach.positive) {
     x_axis = -x_axis;
     std::swap(reach.positive, reach.negative);
@@ -248,7 +252,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.axes.col(0) = x_axis;
   frame.axes.col(1) = y_axis;
   frame.axes.col(2) = x_axis.cross(y_axis);  // right-handed by construction
-  frame.origin = centre + offset * z_normal;  // the centroid projected onto the symmetry plane
+  // The centroid projected onto the symmetry plane.
+  frame.origin = principal.centroid - (principal.centroid - (centre + offset * z_normal)).dot(z_normal) * z_normal;
   return frame;
 }
 

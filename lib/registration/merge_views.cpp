@@ -11,25 +11,25 @@
 
 namespace toolinc {
 
-MergeResult merge_views(const std::vector<Points>& views, const MergeConfig& config) {
+MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config) {
   if (views.empty()) throw MethodError("no views to merge");
-  if (static_cast<int>(views[0].size()) < config.min_points)
-    throw MethodError(fmt::format("the reference view has only {} points, at least {} needed", views[0].size(),
+  if (static_cast<int>(views[0].points.size()) < config.min_points)
+    throw MethodError(fmt::format("the reference view has only {} points, at least {} needed", views[0].points.size(),
                                   config.min_points));
   MergeResult result;
-  Points accumulated = views[0];
+  Points accumulated = views[0].points;
   result.views.push_back({true, "reference", Eigen::Matrix4d::Identity(), {0, 0, 0}, 0.0, 1.0, 0.0, 0,
-                          static_cast<int>(views[0].size())});
+                          static_cast<int>(views[0].points.size())});
   for (std::size_t v = 1; v < views.size(); ++v) {
     ViewMerge merge;
-    merge.points = static_cast<int>(views[v].size());
+    merge.points = static_cast<int>(views[v].points.size());
     if (merge.points < config.min_points) {
       merge.reason = fmt::format("too few points ({} < {})", merge.points, config.min_points);
       result.views.push_back(merge);
       continue;
     }
     const IcpTarget target(voxel_downsample(accumulated, config.voxel_size));
-    const IcpResult icp = align_point_to_plane(voxel_downsample(views[v], config.voxel_size), target,
+    const IcpResult icp = align_point_to_plane(voxel_downsample(views[v].points, config.voxel_size), target,
                                                Eigen::Matrix4d::Identity(), config.icp);
     merge.correction = icp.target_from_source;
     for (int i = 0; i < 3; ++i) merge.translation_m[i] = icp.target_from_source(i, 3);
@@ -48,7 +48,7 @@ MergeResult merge_views(const std::vector<Points>& views, const MergeConfig& con
     else {
       merge.accepted = true;
       merge.reason = "aligned";
-      const Points aligned = transform_points(views[v], icp.target_from_source);
+      const Points aligned = transform_points(views[v].points, icp.target_from_source);
       accumulated.insert(accumulated.end(), aligned.begin(), aligned.end());
     }
     result.views.push_back(merge);
@@ -75,9 +75,15 @@ MergeResult merge_views(const std::vector<Points>& views, const MergeConfig& con
   mean_frame.topLeftCorner<3, 3>() = mean_rotation;
   mean_frame.topRightCorner<3, 1>() = translation_sum / accepted;
   result.hand_from_reference = mean_frame.inverse();
-  result.model = remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference),
-                                                  config.voxel_size),
-                                 config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
+  result.model.frame = "hand";
+  result.model.points = remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference),
+                                                         config.voxel_size),
+                                        config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
+  for (std::size_t v = 0; v < views.size(); ++v)
+    if (result.views[v].accepted) {
+      const Points moved = transform_points(views[v].viewpoints, result.hand_from_reference * result.views[v].correction);
+      result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());
+    }
   return result;
 }
 

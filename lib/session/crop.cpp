@@ -116,6 +116,7 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
     result.cloud.points.push_back(kept.points[i]);
     result.cloud.colors.push_back(kept.colors[i]);
   }
+  result.cloud.viewpoints.push_back(rotation * record.root_from_camera.topRightCorner<3, 1>() + translation);
   if (static_cast<int>(result.cloud.size()) < config.min_points)
     throw MethodError(fmt::format("{}: only {} tool points left after cropping (mask {} px, 3D {}, in box {}, "
                                   "outside the hand {}), at least {} needed",

@@ -18,6 +18,7 @@ struct PointCloud {
   std::vector<Rgb> colors;   // empty, or one per point
   Points normals;            // empty, or one per point
   std::string frame;         // e.g. "hand", "root", "canonical"; empty when unknown
+  Points viewpoints;         // where sensors saw these points from, in the same frame (may be empty)
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

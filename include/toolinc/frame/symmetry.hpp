@@ -7,6 +7,7 @@
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/point_cloud.hpp"
+#include "toolinc/frame/free_space.hpp"
 
 namespace toolinc {
 
@@ -14,7 +15,10 @@ class SymmetryScorer {
  public:
   // points: the resampled cloud; the scorer mirrors an evenly spaced subset of at most `samples`
   // points. tolerance: mirrored points this far or farther from the cloud count as fully asymmetric.
-  SymmetryScorer(const Points& points, std::size_t samples, double tolerance);
+  // free_space (optional, must outlive the scorer): mirror images that no sensor could have seen count
+  // as `unseen_score` instead of as fully asymmetric.
+  SymmetryScorer(const Points& points, std::size_t samples, double tolerance, const FreeSpace* free_space = nullptr,
+                 double unseen_score = 0.5);
 
   // Mean truncated distance of the mirror images to the cloud, divided by the tolerance: 0 for a
   // perfect mirror, 1 when nothing matches.
@@ -25,6 +29,8 @@ class SymmetryScorer {
   KdTree tree_;
   std::vector<std::uint32_t> samples_;
   double tolerance_;
+  const FreeSpace* free_space_;
+  double unseen_score_;
 };
 
 }  // namespace toolinc

@@ -30,6 +30,7 @@ struct ToolFrameConfig {
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
+  double unseen_score = 0.5;        // a mirror image no viewpoint could have seen: no evidence either way
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
                                     //    (measured: mirror planes 0.19-0.24, others >= 0.33)
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
@@ -73,8 +74,10 @@ struct ToolFrame {
   Vec3 symmetry_axis() const { return axes.col(2); }
 };
 
-// points: the tool in the hand frame (the hand at the origin). Throws MethodError with the reason on
-// degenerate input (too few points, collinear, planar, everything inside the hand radius).
-ToolFrame estimate_tool_frame(const Points& points, const ToolFrameConfig& config = {});
+// points: the tool in the hand frame (the hand at the origin). viewpoints (optional): where the sensors
+// saw it from (hand frame), so that parts never seen do not count against a symmetry plane. Throws
+// MethodError with the reason on degenerate input (too few points, collinear, planar, everything inside
+// the hand radius).
+ToolFrame estimate_tool_frame(const Points& points, const ToolFrameConfig& config = {}, const Points& viewpoints = {});
 
 }  // namespace toolinc

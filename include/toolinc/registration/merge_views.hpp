@@ -33,12 +33,13 @@ struct ViewMerge {
 };
 
 struct MergeResult {
-  Points model;                     // in the hand frame estimated as the mean of the accepted views'
+  PointCloud model;                 // in the hand frame estimated as the mean of the accepted views'
   Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the first view's
   std::vector<ViewMerge> views;
 };
 
+// Views in the hand frame, with their viewpoints if known (carried into the model with the corrections).
 // Throws MethodError when the reference (first) view has fewer than min_points points.
-MergeResult merge_views(const std::vector<Points>& views, const MergeConfig& config = {});
+MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
 }  // namespace toolinc
