@@ -196,7 +196,7 @@ TEST(Simulator, ExecutableWritesAReadableSessionWithGroundTruth) {
   EXPECT_EQ(info.created, "2026-01-01T00:00:00Z");
   const ToolGroundTruth truth = read_ground_truth((dir / "s/ground_truth.json").string());
   Rng rng(4);
-  EXPECT_TRUE(truth.hand_from_canonical.isApprox(random_grasp({}, rng)));
+  EXPECT_TRUE(truth.hand_from_canonical.isApprox(random_grasp(exploration_grasp_range(), rng)));
   const ViewData view = read_view((dir / "s").string(), info, 2);
   EXPECT_EQ(view.points.size(), 320u * 240u);
 
