@@ -21,9 +21,12 @@ cv::Mat closest_blob_mask(const cv::Mat& disparity, const BlobDetectorConfig& co
     cv::minMaxLoc(work, nullptr, &max_value, nullptr, &brightest);
     if (max_value <= 0) break;
     cv::Mat fill = cv::Mat::zeros(work.rows + 2, work.cols + 2, CV_8UC1);
-    const int flags = 8 | cv::FLOODFILL_FIXED_RANGE | cv::FLOODFILL_MASK_ONLY | (255 << 8);
-    const int area = cv::floodFill(work, fill, brightest, 0, nullptr, cv::Scalar(max_value / config.low_ratio),
-                                   cv::Scalar(max_value / config.high_ratio), flags);
+    // dispBlobber floods a fixed range around the closest value, which keeps only the nearest part of
+    // a tool leaning away from the camera; a floating range follows the tool's continuous disparity.
+    const int flags = 8 | cv::FLOODFILL_MASK_ONLY | (255 << 8) | (config.floating ? 0 : cv::FLOODFILL_FIXED_RANGE);
+    const double low = config.floating ? config.floating_step : max_value / config.low_ratio;
+    const double high = config.floating ? config.floating_step : max_value / config.high_ratio;
+    const int area = cv::floodFill(work, fill, brightest, 0, nullptr, cv::Scalar(low), cv::Scalar(high), flags);
     cv::Mat blob = fill(cv::Rect(1, 1, work.cols, work.rows)).clone();
     if (area < config.min_blob_size) {
       work.setTo(0, blob);

@@ -1,0 +1,29 @@
+// The classifier file (design.md "classifier"): type "classifier", version 1, the labels, the feature
+// extractor with everything needed to reproduce it (for a network, the model's SHA-256), the chosen
+// lambda and how it was chosen, and per label the weights and bias of its linear score.
+#pragma once
+
+#include <string>
+
+#include "toolinc/appearance/feature_extractor.hpp"
+#include "toolinc/appearance/rls.hpp"
+#include "toolinc/io/json_file.hpp"
+
+namespace toolinc {
+
+constexpr int kClassifierVersion = 1;
+
+struct AppearanceClassifier {
+  FeatureExtractor extractor;
+  RlsModel model;
+};
+
+// training: a summary of the training data, recorded as given.
+Json classifier_json(const AppearanceClassifier& classifier, const Json& training);
+
+// Reads and validates a classifier file and rebuilds its extractor (model replaces the recorded model
+// path of a dnn extractor). Throws InputError naming the classifier file, or the model file when it is
+// missing, unloadable or not the one the classifier was trained with.
+AppearanceClassifier read_classifier(const std::string& path, const std::string& model = "");
+
+}  // namespace toolinc

@@ -1,0 +1,43 @@
+// The image regions appearance learning looks at (original-method.md sect. 10, issue 5): the tool
+// blob's bounding box plus a margin on each side, clipped to the image, as the robot's bbdisp crops.
+#pragma once
+
+#include <cstddef>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "toolinc/session/session.hpp"
+
+namespace toolinc {
+
+constexpr int kCropMargin = 10;  // px on each side of the blob's bounding box
+
+// The box grown by margin on each side and clipped to an image of the given size.
+cv::Rect crop_around(const cv::Rect& box, const cv::Size& image, int margin = kCropMargin);
+
+// "x,y,w,h" in pixels; throws std::invalid_argument on anything else or a non-positive size.
+cv::Rect parse_bbox(const std::string& text);
+
+// An 8-bit colour image (BGR); throws InputError(path, ...) when it is missing or cannot be decoded.
+cv::Mat read_image(const std::string& path);
+
+// Throws InputError(file, ...) unless box lies wholly inside an image of the given size.
+void check_box_inside(const cv::Rect& box, const cv::Size& image, const std::string& file);
+
+// One view's crop of a recorded session.
+struct ViewCrop {
+  std::size_t view = 0;
+  cv::Rect box;   // the crop in the left image, margin included
+  cv::Mat image;  // BGR
+};
+
+// The crops of every view of a session (or only of `view`). The blob's bounding box comes from blob.png
+// where present (the tight box of the mask); otherwise from view.json's blob roi, which is dispBlobber's
+// box and already holds the detector's margin, so it is used as recorded. Throws InputError naming the
+// file when a view has neither, or `view` does not exist.
+std::vector<ViewCrop> session_crops(const std::string& session_dir, const SessionInfo& session,
+                                    std::optional<std::size_t> view = std::nullopt);
+
+}  // namespace toolinc

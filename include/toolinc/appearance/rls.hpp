@@ -1,0 +1,43 @@
+// One-vs-all regularised least squares, the iCub recognition lineage (GURLS / himrep's RLS): per label a
+// linear score w.x + b fitted to +1 for the label's samples and -1 for the others, in closed form, with
+// an unregularised bias (features and targets centred). The regularisation lambda is chosen among
+// log-spaced candidates by leave-one-out error, which closed form gives for free: with the centred
+// features' thin SVD X = U S V^T and f_k = s_k^2 / (s_k^2 + lambda), the fit is Y_hat = ybar + U diag(f)
+// U^T (Y - ybar), the hat matrix's diagonal h_i = 1/n + sum_k U_ik^2 f_k, and each left-out residual
+// (y_i - y_hat_i) / (1 - h_i). U and s come from the eigendecomposition of the smaller Gram matrix:
+// X X^T (n x n, the kernel form) when there are fewer samples than dimensions, X^T X otherwise, computed
+// in single precision (twice as fast; see rls.cpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace toolinc {
+
+struct RlsConfig {
+  // Lambda candidates, log-spaced between these multiples of the mean eigenvalue of the centred Gram
+  // matrix, so the grid follows the features' scale.
+  double lambda_min_ratio = 1e-5;
+  double lambda_max_ratio = 10.0;
+  int lambda_count = 25;
+};
+
+struct RlsModel {
+  std::vector<std::string> labels;
+  Eigen::MatrixXd weights;  // dimension x labels
+  Eigen::RowVectorXd bias;  // per label
+  double lambda = 0;
+  double loo_error = 0;     // mean squared leave-one-out residual at lambda, over samples and labels
+  double loo_accuracy = 0;  // share of samples whose leave-one-out best score is their own label
+};
+
+// features: one sample per row; targets: per row, an index into labels. Throws MethodError when fewer
+// than two labels have samples, std::invalid_argument on sizes that do not match or a bad config.
+RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                   const std::vector<std::string>& labels, const RlsConfig& config = {});
+
+// Scores, one row per feature row, one column per label.
+Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features);
+
+}  // namespace toolinc

@@ -1,0 +1,73 @@
+#include "toolinc/appearance/classifier_file.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+#include <cmath>
+#include <set>
+
+#include "toolinc/core/error.hpp"
+
+namespace toolinc {
+namespace {
+
+Eigen::RowVectorXd number_row(const Json& json, Eigen::Index size, const std::string& what, const std::string& file) {
+  if (!json.is_array() || static_cast<Eigen::Index>(json.size()) != size)
+    throw InputError(file, fmt::format("{}: expected {} numbers", what, size));
+  Eigen::RowVectorXd row(size);
+  for (Eigen::Index i = 0; i < size; ++i) {
+    const Json& value = json[static_cast<std::size_t>(i)];
+    if (!value.is_number() || !std::isfinite(value.get<double>()))
+      throw InputError(file, fmt::format("{}: expected finite numbers", what));
+    row[i] = value.get<double>();
+  }
+  return row;
+}
+
+}  // namespace
+
+Json classifier_json(const AppearanceClassifier& classifier, const Json& training) {
+  const RlsModel& m = classifier.model;
+  Json weights = Json::array();
+  for (Eigen::Index c = 0; c < m.weights.cols(); ++c)
+    weights.push_back(std::vector<double>(m.weights.col(c).data(), m.weights.col(c).data() + m.weights.rows()));
+  return {{"type", "classifier"},
+          {"version", kClassifierVersion},
+          {"method", "one-vs-all regularised least squares (targets +1/-1, unregularised bias)"},
+          {"labels", m.labels},
+          {"extractor", classifier.extractor.to_json()},
+          {"lambda", m.lambda},
+          {"lambda_selection", {{"method", "leave-one-out"}, {"error", m.loo_error}, {"accuracy", m.loo_accuracy}}},
+          {"training", training},
+          {"bias", std::vector<double>(m.bias.data(), m.bias.data() + m.bias.size())},
+          {"weights", weights}};
+}
+
+AppearanceClassifier read_classifier(const std::string& path, const std::string& model) {
+  const Json json = read_json(path);
+  check_type(json, "classifier", kClassifierVersion, path);
+  RlsModel m;
+  const Json& labels = json.value("labels", Json());
+  if (!labels.is_array() || labels.size() < 2) throw InputError(path, "\"labels\" must list at least two labels");
+  for (const auto& label : labels) {
+    if (!label.is_string()) throw InputError(path, "\"labels\" must be strings");
+    m.labels.push_back(label.get<std::string>());
+  }
+  if (std::set<std::string>(m.labels.begin(), m.labels.end()).size() != m.labels.size())
+    throw InputError(path, "\"labels\" repeat a label");
+  if (!json.contains("extractor")) throw InputError(path, "missing \"extractor\"");
+  FeatureExtractor extractor = FeatureExtractor::from_json(json["extractor"], path, model);
+  const auto classes = static_cast<Eigen::Index>(m.labels.size());
+  const Eigen::Index dimension = extractor.dimension();
+  m.bias = number_row(json.value("bias", Json()), classes, "bias", path);
+  const Json& weights = json.value("weights", Json());
+  if (!weights.is_array() || static_cast<Eigen::Index>(weights.size()) != classes)
+    throw InputError(path, "\"weights\" must hold one row per label");
+  m.weights.resize(dimension, classes);
+  for (Eigen::Index c = 0; c < classes; ++c)
+    m.weights.col(c) = number_row(weights[static_cast<std::size_t>(c)], dimension, "weights", path).transpose();
+  if (!json.contains("lambda") || !json["lambda"].is_number()) throw InputError(path, "missing \"lambda\"");
+  m.lambda = json["lambda"].get<double>();
+  return {std::move(extractor), std::move(m)};
+}
+
+}  // namespace toolinc

@@ -1,0 +1,109 @@
+#include "toolinc/appearance/rls.hpp"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "toolinc/core/error.hpp"
+
+namespace toolinc {
+namespace {
+
+// The centred features' left singular vectors U (n x r) and squared singular values, r = numerical rank.
+struct Spectrum {
+  Eigen::MatrixXd u;
+  Eigen::VectorXd s2;
+};
+
+Spectrum spectrum(const Eigen::MatrixXd& x) {
+  const Eigen::Index n = x.rows(), d = x.cols();
+  const bool kernel = n <= d;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(kernel ? n : d, kernel ? n : d);
+  if (kernel)
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(x);
+  else
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(x.transpose());
+  // The eigendecomposition runs in single precision: it dominates training (Eigen's QR iterations
+  // accumulate rotations at memory speed) and takes half as long, while its relative error of about 1e-7
+  // is far below anything choosing lambda or fitting +-1 targets can notice. Components below that
+  // resolution are dropped.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXf> eigen(gram.cast<float>());  // reads the lower triangle
+  const Eigen::VectorXd values = eigen.eigenvalues().cast<double>();                // ascending
+  const double tolerance = std::max(values.maxCoeff(), 0.0) * static_cast<double>(values.size()) *
+                           std::numeric_limits<float>::epsilon();
+  Eigen::Index first = 0;
+  while (first < values.size() && values[first] <= tolerance) ++first;
+  const Eigen::Index rank = values.size() - first;
+  Spectrum result{eigen.eigenvectors().rightCols(rank).cast<double>(), values.tail(rank)};
+  if (!kernel)  // U = X V S^-1
+    result.u = x * result.u * result.s2.cwiseSqrt().cwiseInverse().asDiagonal();
+  return result;
+}
+
+}  // namespace
+
+RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                   const std::vector<std::string>& labels, const RlsConfig& config) {
+  const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
+  if (static_cast<std::size_t>(n) != targets.size()) throw std::invalid_argument("train_rls: one target per row");
+  if (config.lambda_count < 1 || !(config.lambda_min_ratio > 0) || !(config.lambda_max_ratio >= config.lambda_min_ratio))
+    throw std::invalid_argument("train_rls: bad lambda range");
+  Eigen::MatrixXd y = -Eigen::MatrixXd::Ones(n, classes);
+  Eigen::VectorXi count = Eigen::VectorXi::Zero(classes);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (targets[i] >= labels.size()) throw std::invalid_argument("train_rls: target out of range");
+    y(i, static_cast<Eigen::Index>(targets[i])) = 1.0;
+    ++count[static_cast<Eigen::Index>(targets[i])];
+  }
+  if ((count.array() > 0).count() < 2)
+    throw MethodError(fmt::format("the training data hold {} label(s); recognition needs samples of at least two",
+                                  (count.array() > 0).count()));
+
+  const Eigen::RowVectorXd x_mean = features.colwise().mean(), y_mean = y.colwise().mean();
+  const Eigen::MatrixXd x = features.rowwise() - x_mean, yc = y.rowwise() - y_mean;
+  const Spectrum s = spectrum(x);
+  const Eigen::MatrixXd z = s.u.transpose() * yc;           // r x classes
+  const Eigen::MatrixXd u2 = s.u.array().square().matrix();  // for the hat diagonal
+  const double mean_eigenvalue = s.s2.size() ? s.s2.mean() : 1.0;
+
+  RlsModel best;
+  best.loo_error = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < config.lambda_count; ++k) {
+    const double t = config.lambda_count == 1 ? 0.0 : static_cast<double>(k) / (config.lambda_count - 1);
+    const double lambda = mean_eigenvalue * config.lambda_min_ratio *
+                          std::pow(config.lambda_max_ratio / config.lambda_min_ratio, t);
+    const Eigen::VectorXd shrink = s.s2.array() / (s.s2.array() + lambda);
+    const Eigen::MatrixXd residual = yc - s.u * (shrink.asDiagonal() * z);
+    const Eigen::VectorXd hat = (u2 * shrink).array() + 1.0 / n;
+    const Eigen::MatrixXd loo = residual.array().colwise() / (1.0 - hat.array()).max(1e-12);
+    const double error = loo.squaredNorm() / static_cast<double>(n * classes);
+    spdlog::trace("lambda {:.3g}: leave-one-out error {:.5f}", lambda, error);
+    if (error < best.loo_error) {
+      best.lambda = lambda, best.loo_error = error;
+      const Eigen::MatrixXd loo_scores = y - loo;  // the left-out predictions
+      Eigen::Index right = 0;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        Eigen::Index predicted;
+        loo_scores.row(i).maxCoeff(&predicted);
+        right += predicted == static_cast<Eigen::Index>(targets[i]);
+      }
+      best.loo_accuracy = static_cast<double>(right) / n;
+    }
+  }
+  // W = X^T (X X^T + lambda I)^-1 Yc = X^T U diag(1 / (s^2 + lambda)) U^T Yc (X's rows lie in U's span).
+  const Eigen::VectorXd inverse = (s.s2.array() + best.lambda).inverse();
+  best.labels = labels;
+  best.weights = x.transpose() * (s.u * (inverse.asDiagonal() * z));
+  best.bias = y_mean - x_mean * best.weights;
+  return best;
+}
+
+Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features) {
+  return (features * model.weights).rowwise() + model.bias;
+}
+
+}  // namespace toolinc

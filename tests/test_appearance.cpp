@@ -1,0 +1,530 @@
+// Appearance learning: SHA-256 against published vectors, crops, the builtin descriptor, RLS with its
+// closed-form leave-one-out checked against refitting, recognition accuracy on simulated sessions of
+// different tools and grasps, feature databases, the dnn path with an ONNX network made here, and
+// learn-appearance as users run it, with its bad inputs.
+#include <gtest/gtest.h>
+#include <spdlog/fmt/fmt.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "run_tool.hpp"
+#include "toolinc/appearance/crops.hpp"
+#include "toolinc/appearance/learn_appearance.hpp"
+#include "toolinc/appearance/onnx_writer.hpp"
+#include "toolinc/appearance/sha256.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/session_simulator.hpp"
+
+namespace toolinc {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_tool;
+using testing::scratch_dir;
+using testing::slurp;
+
+// Tools that differ in shape and colour (the simulator renders each family in its own colour).
+const std::vector<ToolFamily> kTools = {ToolFamily::hoe,     ToolFamily::hook,  ToolFamily::rake,
+                                        ToolFamily::shovel,  ToolFamily::l_stick, ToolFamily::t_bar};
+const std::vector<int> kTrainGrasps = {0, 1, 2}, kTestGrasps = {3, 4};
+
+// A simulated session of the family held in its grasp-th random grasp, written once per test run.
+fs::path session(ToolFamily family, int grasp) {
+  static const fs::path root = fs::temp_directory_path() / ("toolinc-appearance-" + std::to_string(::getpid()));
+  const fs::path dir = root / (to_string(family) + "-" + std::to_string(grasp));
+  if (fs::exists(dir)) return dir;
+  SessionSimulatorConfig config;
+  config.shape = default_shape(family);
+  config.tool_label = to_string(family);
+  config.seed = 1000u * static_cast<std::uint32_t>(family) + static_cast<std::uint32_t>(grasp) + 1u;
+  Rng rng(config.seed);
+  config.hand_from_canonical = random_grasp({}, rng);
+  config.write_points = false;
+  const SimulatedSession simulated = simulate_session(config);
+  fs::create_directories(root);
+  write_session(dir.string(), simulated.info, simulated.views, simulated.ground_truth);
+  return dir;
+}
+
+std::vector<std::string> sessions(const std::vector<ToolFamily>& tools, const std::vector<int>& grasps) {
+  std::vector<std::string> dirs;
+  for (const auto family : tools)
+    for (const int grasp : grasps) dirs.push_back(session(family, grasp).string());
+  return dirs;
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// --- SHA-256 --------------------------------------------------------------------------------------------
+
+TEST(AppearanceSha256, PublishedVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_hex("abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnopjklmnopqklmnopqrlmnopqrsmnopqrstnopqrstu"),
+            "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(AppearanceSha256, PaddingBoundaries) {  // lengths around the 56-byte padding limit and the block size
+  const std::map<std::size_t, std::string> expected = {
+      {55, "9f4390f8d30c2dd92ec9f095b65e2b9ae9b0a925a5258e241c9f1e910f734318"},
+      {56, "b35439a4ac6f0948b6d6f9e3c6af0f5f590ce20f1bde7090ef7970686ec6738a"},
+      {63, "7d3e74a05d7db15bce4ad9ec0658ea98e3f06eeecf16b4c6fff2da457ddc2f34"},
+      {64, "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb"},
+      {65, "635361c48bb9eab14198e76ea8ab7f1a41685d6ad62aa9146d301d4f17eb0ae0"},
+      {119, "31eba51c313a5c08226adf18d4a359cfdfd8d2e816b13f4af952f7ea6584dcfb"},
+      {120, "2f3d335432c70b580af0e8e1b3674a7c020d683aa5f73aaaedfdc55af904c21c"}};
+  for (const auto& [length, digest] : expected) EXPECT_EQ(sha256_hex(std::string(length, 'a')), digest) << length;
+}
+
+// --- Crops and the builtin descriptor ---------------------------------------------------------------------
+
+TEST(AppearanceCrops, MarginClippedToTheImage) {
+  EXPECT_EQ(crop_around({50, 40, 20, 30}, {320, 240}), cv::Rect(40, 30, 40, 50));
+  EXPECT_EQ(crop_around({5, 220, 20, 15}, {320, 240}), cv::Rect(0, 210, 35, 30));
+  EXPECT_EQ(parse_bbox("10,20,30,40"), cv::Rect(10, 20, 30, 40));
+  for (const char* bad : {"10,20,30", "10,20,30,40,5", "a,b,c,d", "10,20,0,40", "10 20 30 40"})
+    EXPECT_THROW(parse_bbox(bad), std::invalid_argument) << bad;
+}
+
+TEST(AppearanceCrops, SessionCropsHoldTheBlob) {
+  const std::string dir = session(ToolFamily::hoe, 0).string();
+  const SessionInfo info = read_session(dir);
+  const auto crops = session_crops(dir, info);
+  ASSERT_EQ(crops.size(), info.views.size());
+  for (const auto& crop : crops) {
+    const ViewData data = read_view(dir, info, crop.view);
+    const cv::Rect blob = cv::boundingRect(data.blob);
+    EXPECT_EQ(crop.box, crop_around(blob, data.left.size()));
+    EXPECT_EQ(crop.image.size(), crop.box.size());
+  }
+  EXPECT_EQ(session_crops(dir, info, 2).size(), 1u);
+  EXPECT_THROW(session_crops(dir, info, 99), InputError);
+}
+
+TEST(AppearanceBuiltin, UnitNormDeterministicAndColourAware) {
+  const BuiltinFeatureConfig config;
+  const std::string dir = session(ToolFamily::hook, 0).string();
+  const auto crops = session_crops(dir, read_session(dir));
+  const Eigen::VectorXd a = builtin_features(crops[0].image, config);
+  EXPECT_EQ(static_cast<std::size_t>(a.size()), builtin_dimension(config));
+  EXPECT_EQ(a.size(), 7 * 7 * 36 + 16 * 4);
+  EXPECT_NEAR(a.norm(), 1.0, 1e-6);
+  EXPECT_TRUE(a == builtin_features(crops[0].image, config));
+  // The same shapes in another colour change only the colour part.
+  cv::Mat swapped;
+  cv::cvtColor(crops[0].image, swapped, cv::COLOR_BGR2RGB);
+  const Eigen::VectorXd b = builtin_features(swapped, config);
+  const Eigen::Index hog = 7 * 7 * 36;
+  EXPECT_GT((a.tail(64) - b.tail(64)).norm(), 0.2);
+  EXPECT_LT((a.head(hog) - b.head(hog)).norm(), 0.5 * (a.tail(64) - b.tail(64)).norm());
+  EXPECT_THROW(check(BuiltinFeatureConfig{60, 64, 8, 2, 9, 16, 4}), std::invalid_argument);
+}
+
+// --- RLS -------------------------------------------------------------------------------------------------
+
+// Three Gaussian clusters in d dimensions.
+void clusters(int n, int d, std::uint32_t seed, Eigen::MatrixXd& x, std::vector<std::size_t>& y) {
+  Rng rng(seed);
+  Eigen::MatrixXd centres(3, d);
+  for (Eigen::Index i = 0; i < centres.size(); ++i) centres(i) = rng.gaussian();
+  x.resize(n, d);
+  y.clear();
+  for (int i = 0; i < n; ++i) {
+    y.push_back(static_cast<std::size_t>(i % 3));
+    for (int j = 0; j < d; ++j) x(i, j) = centres(i % 3, j) + 0.8 * rng.gaussian();
+  }
+}
+
+// Ridge with an unregularised bias, solved directly: fit on `x`, `y` as +-1 targets.
+Eigen::MatrixXd ridge_predict(const Eigen::MatrixXd& x, const Eigen::MatrixXd& y, double lambda, const Eigen::MatrixXd& query) {
+  const Eigen::RowVectorXd xm = x.colwise().mean(), ym = y.colwise().mean();
+  const Eigen::MatrixXd xc = x.rowwise() - xm, yc = y.rowwise() - ym;
+  const Eigen::MatrixXd a = xc.transpose() * xc + lambda * Eigen::MatrixXd::Identity(x.cols(), x.cols());
+  const Eigen::MatrixXd w = a.ldlt().solve(xc.transpose() * yc);
+  return ((query.rowwise() - xm) * w).rowwise() + ym;
+}
+
+TEST(AppearanceRls, ClosedFormLeaveOneOutMatchesRefitting) {
+  for (const auto& [n, d] : std::vector<std::pair<int, int>>{{45, 6}, {24, 60}}) {  // primal and kernel form
+    SCOPED_TRACE(std::to_string(n) + " samples, " + std::to_string(d) + " dimensions");
+    Eigen::MatrixXd x;
+    std::vector<std::size_t> y;
+    clusters(n, d, 7, x, y);
+    const RlsModel model = train_rls(x, y, {"a", "b", "c"});
+    Eigen::MatrixXd targets = -Eigen::MatrixXd::Ones(n, 3);
+    for (int i = 0; i < n; ++i) targets(i, static_cast<Eigen::Index>(y[i])) = 1;
+    // Same weights as the direct solution, and the same scores.
+    // (to the single precision of the eigendecomposition)
+    EXPECT_LT((rls_scores(model, x) - ridge_predict(x, targets, model.lambda, x)).cwiseAbs().maxCoeff(), 1e-4);
+    double loo = 0;
+    for (int i = 0; i < n; ++i) {
+      std::vector<int> keep;
+      for (int j = 0; j < n; ++j)
+        if (j != i) keep.push_back(j);
+      const Eigen::MatrixXd prediction = ridge_predict(x(keep, Eigen::all), targets(keep, Eigen::all), model.lambda, x.row(i));
+      loo += (targets.row(i) - prediction).squaredNorm();
+    }
+    EXPECT_NEAR(model.loo_error, loo / (3.0 * n), 1e-4 * model.loo_error);
+    EXPECT_GT(model.loo_accuracy, 0.9);
+  }
+}
+
+TEST(AppearanceRls, OneLabelIsAMethodError) {
+  Eigen::MatrixXd x;
+  std::vector<std::size_t> y;
+  clusters(12, 4, 3, x, y);
+  std::fill(y.begin(), y.end(), 1);
+  EXPECT_THROW(train_rls(x, y, {"a", "b", "c"}), MethodError);
+}
+
+TEST(AppearanceDecision, UnknownBelowScoreOrMargin) {
+  const std::vector<std::string> labels = {"a", "b", "c"};
+  EXPECT_EQ(decide(Eigen::RowVector3d(0.9, -0.5, 0.1), labels, {}).label, "a");
+  EXPECT_EQ(decide(Eigen::RowVector3d(-0.2, -0.5, -0.9), labels, {}).label, kUnknownLabel);
+  EXPECT_EQ(decide(Eigen::RowVector3d(0.5, 0.45, -0.9), labels, {}).label, kUnknownLabel);
+  const Decision d = decide(Eigen::RowVector3d(0.2, 0.6, -0.9), labels, {0.0, 0.3});
+  EXPECT_EQ(d.label, "b");
+  EXPECT_NEAR(d.margin, 0.4, 1e-12);
+}
+
+// --- Recognition accuracy ---------------------------------------------------------------------------------
+
+TEST(AppearanceAccuracy, OtherGraspsRecognisedWithBuiltinFeatures) {
+  TrainingSources sources;
+  sources.sessions = sessions(kTools, kTrainGrasps);
+  Json summary;
+  const AppearanceClassifier classifier = train_appearance(sources, std::nullopt, {}, summary);
+  EXPECT_EQ(classifier.model.labels.size(), kTools.size());
+  int views = 0, right = 0, sessions_right = 0, session_count = 0;
+  for (const auto& dir : sessions(kTools, kTestGrasps)) {
+    ClassifyInput input;
+    input.session = dir;
+    const Json result = classify_appearance(classifier, "classifier.json", input, {});
+    const std::string truth = *read_session(dir).tool_label;
+    for (const auto& sample : result["per_sample"]) {
+      ++views;
+      right += sample["label"] == truth;
+      if (sample["label"] != truth) std::cout << dir << " view " << sample["view"] << ": " << sample["label"] << '\n';
+    }
+    ++session_count;
+    sessions_right += result["label"] == truth;
+  }
+  const double accuracy = static_cast<double>(right) / views;
+  std::cout << "view-level accuracy " << 100.0 * accuracy << "% (" << right << "/" << views << "), sessions "
+            << sessions_right << "/" << session_count << ", leave-one-out on training "
+            << 100.0 * classifier.model.loo_accuracy << "%, lambda " << classifier.model.lambda << '\n';
+  RecordProperty("view_accuracy", std::to_string(accuracy));
+  EXPECT_GE(accuracy, 0.95);
+  EXPECT_EQ(sessions_right, session_count);
+}
+
+// --- Feature databases ------------------------------------------------------------------------------------
+
+TEST(AppearanceFeatureDb, RoundTripIsExact) {
+  const auto dir = scratch_dir("appearance-db");
+  LabelledFeatures db;
+  Rng rng(5);
+  for (const char* label : {"hoe", "rake", "rake", "hoe", "hook"}) {
+    db.labels.push_back(label);
+    db.rows.push_back(Eigen::VectorXd::NullaryExpr(7, [&] { return rng.gaussian() * 1e-3; }));
+  }
+  write_feature_db(dir.string(), db);
+  EXPECT_TRUE(fs::exists(dir / "rake" / "0.txt"));
+  const LabelledFeatures back = read_feature_db(dir.string());
+  EXPECT_EQ(back.labels, (std::vector<std::string>{"hoe", "hoe", "hook", "rake", "rake"}));
+  EXPECT_TRUE(back.rows[0] == db.rows[0] && back.rows[1] == db.rows[3] && back.rows[4] == db.rows[2]);
+}
+
+TEST(AppearanceFeatureDb, RaggedRowsAndJunkNamed) {
+  const auto dir = scratch_dir("appearance-rows");
+  write_text(dir / "ragged.txt", "1 2 3\n\n4 5 6\n7 8\n");
+  write_text(dir / "junk.txt", "1 2 x3\n");
+  write_text(dir / "empty.txt", "\n \n");
+  for (const auto& [file, words] : std::vector<std::pair<std::string, std::string>>{
+           {"ragged.txt", "line 4: 2 values, but the first row has 3"}, {"junk.txt", "line 1"}, {"empty.txt", "no feature"}}) {
+    try {
+      read_feature_rows((dir / file).string());
+      ADD_FAILURE() << file << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find((dir / file).string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  }
+}
+
+// --- The dnn extractor ----------------------------------------------------------------------------------
+
+fs::path write_network(const fs::path& path, const RandomConvNet& net) {
+  write_text(path, random_conv_onnx(net));
+  return path;
+}
+
+TEST(AppearanceDnn, GeneratedNetworkGivesStableFeatures) {
+  const auto dir = scratch_dir("appearance-dnn");
+  DnnFeatureConfig config;
+  config.model = write_network(dir / "net.onnx", {}).string();
+  config.input_width = config.input_height = 32;
+  const std::string crop_dir = session(ToolFamily::rake, 0).string();
+  const cv::Mat crop = session_crops(crop_dir, read_session(crop_dir), 0)[0].image;
+
+  DnnFeatureExtractor first(config), second(config, sha256_file(config.model));
+  EXPECT_EQ(first.dimension(), 8);
+  const Eigen::VectorXd a = first.extract(crop);
+  ASSERT_EQ(a.size(), 8);
+  EXPECT_NEAR(a.norm(), 1.0, 1e-6);
+  EXPECT_TRUE(a == first.extract(crop));
+  EXPECT_TRUE(a == second.extract(crop));
+  cv::Mat other;
+  cv::flip(crop, other, 0);
+  EXPECT_FALSE(a == first.extract(other));
+
+  config.output_layer = "relu";  // an inner layer: the whole feature map
+  EXPECT_EQ(DnnFeatureExtractor(config).dimension(), 8 * 32 * 32);
+  config.output_layer = "no_such_layer";
+  EXPECT_THROW(DnnFeatureExtractor{config}, InputError);
+  config.output_layer.clear();
+  EXPECT_THROW(DnnFeatureExtractor(config, std::string(64, '0')), InputError);
+  write_text(dir / "junk.onnx", "not a network");
+  config.model = (dir / "junk.onnx").string();
+  EXPECT_THROW(DnnFeatureExtractor{config}, InputError);
+}
+
+// --- learn-appearance -------------------------------------------------------------------------------------
+
+std::string joined(const std::vector<std::string>& items, const std::string& prefix) {
+  std::string text;
+  for (const auto& item : items) text += " " + prefix + item;
+  return text;
+}
+
+// Writes the builtin features of every view of the sessions as a feature database, or as one rows file.
+LabelledFeatures builtin_session_features(const std::vector<std::string>& dirs) {
+  const FeatureExtractor extractor = FeatureExtractor::builtin();
+  LabelledFeatures features;
+  for (const auto& dir : dirs) {
+    const SessionInfo info = read_session(dir);
+    for (const auto& crop : session_crops(dir, info)) {
+      features.labels.push_back(*info.tool_label);
+      features.rows.push_back(extractor.extract(crop.image));
+    }
+  }
+  return features;
+}
+
+TEST(AppearanceCli, TrainThenClassifySessionImageAndFeatures) {
+  const auto dir = scratch_dir("appearance-cli");
+  const std::vector<ToolFamily> tools = {ToolFamily::hoe, ToolFamily::rake, ToolFamily::shovel};
+  const auto classifier = (dir / "classifier.json").string();
+  const std::string train = "train" + joined(sessions(tools, {0, 1}), "--session ") + " -q -o ";
+  auto run = run_tool("learn-appearance", train + classifier);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(run.err.empty()) << run.err;
+  const Json json = read_json(classifier);
+  EXPECT_EQ(json["type"], "classifier");
+  EXPECT_EQ(json["version"], 1);
+  EXPECT_EQ(json["labels"], Json::array({"hoe", "rake", "shovel"}));
+  EXPECT_EQ(json["extractor"]["name"], "builtin");
+  EXPECT_EQ(json["weights"].size(), 3u);
+  EXPECT_EQ(json["weights"][0].size(), json["extractor"]["dimension"].get<std::size_t>());
+  ASSERT_EQ(run_tool("learn-appearance", train + (dir / "again.json").string()).exit_code, 0);
+  EXPECT_EQ(slurp(classifier), slurp(dir / "again.json")) << "training is not deterministic";
+
+  const std::string test_session = session(ToolFamily::rake, 3).string();
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json result = Json::parse(run.out);
+  EXPECT_EQ(result["type"], "classification");
+  EXPECT_EQ(result["version"], 1);
+  EXPECT_EQ(result["label"], "rake");
+  EXPECT_EQ(result["per_sample"].size(), 5u);
+  EXPECT_EQ(result["per_sample"][0]["scores"].size(), 3u);
+  const auto file = (dir / "result.json").string();
+  ASSERT_EQ(run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " -o " + file).exit_code, 0);
+  EXPECT_EQ(slurp(file), run.out);
+
+  // One view, then the same crop as an image and a box (the view's blob box: the crop adds the margin).
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " --view 1 -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json view = Json::parse(run.out);
+  ASSERT_EQ(view["per_sample"].size(), 1u);
+  const SessionInfo info = read_session(test_session);
+  const cv::Rect blob = cv::boundingRect(read_view(test_session, info, 1).blob);
+  const std::string image = (fs::path(test_session) / info.views[1].dir / "left.png").string();
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --image " + image + " --bbox " +
+                                         fmt::format("{},{},{},{}", blob.x, blob.y, blob.width, blob.height) + " -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json by_box = Json::parse(run.out);
+  EXPECT_EQ(by_box["per_sample"][0]["box"], view["per_sample"][0]["box"]);
+  EXPECT_EQ(by_box["scores"], view["scores"]);
+
+  // A builtin classifier also takes the builtin features as rows.
+  const auto rows = (dir / "rows.txt").string();
+  write_feature_rows(rows, builtin_session_features({test_session}).rows);
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --features " + rows + " -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Json::parse(run.out)["label"], "rake");
+  EXPECT_EQ(Json::parse(run.out)["per_sample"][4]["row"], 4);
+}
+
+TEST(AppearanceCli, FeatureDatabaseRoundTrip) {
+  const auto dir = scratch_dir("appearance-cli-db");
+  write_feature_db((dir / "db").string(), builtin_session_features(sessions(kTools, kTrainGrasps)));
+  const auto classifier = (dir / "classifier.json").string();
+  auto run = run_tool("learn-appearance", "train --features-db " + (dir / "db").string() + " -q -o " + classifier);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(read_json(classifier)["extractor"]["name"], "external");
+  int right = 0, total = 0;
+  for (const auto family : kTools) {
+    const auto rows = (dir / (to_string(family) + ".txt")).string();
+    write_feature_rows(rows, builtin_session_features({session(family, kTestGrasps[0]).string()}).rows);
+    run = run_tool("learn-appearance", "classify --classifier " + classifier + " --features " + rows + " -q -o -");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const Json result = Json::parse(run.out);
+    EXPECT_EQ(result["label"], to_string(family));
+    for (const auto& sample : result["per_sample"]) right += sample["label"] == to_string(family), ++total;
+  }
+  EXPECT_GE(right, 0.95 * total);
+  // External features cannot be classified from images.
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " +
+                                         session(ToolFamily::hoe, 3).string() + " -o " + (dir / "out.json").string());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir / "out.json"));
+}
+
+TEST(AppearanceCli, DnnBackboneTrainedAndChecked) {
+  const auto dir = scratch_dir("appearance-cli-dnn");
+  const auto net = write_network(dir / "net.onnx", {16, 3, 32, 32, 3}).string();
+  const auto classifier = (dir / "classifier.json").string();
+  const std::string train = "train" + joined(sessions({ToolFamily::hoe, ToolFamily::hook}, {0}), "--session ") +
+                            " --backbone " + net + " --input-size 32 32 --channel-order bgr -q -o ";
+  auto run = run_tool("learn-appearance", train + classifier);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json json = read_json(classifier);
+  EXPECT_EQ(json["extractor"]["name"], "dnn");
+  EXPECT_EQ(json["extractor"]["model_sha256"], sha256_file(net));
+  EXPECT_EQ(json["extractor"]["dimension"], 16);
+  EXPECT_EQ(json["extractor"]["input_size"], Json::array({32, 32}));
+  ASSERT_EQ(run_tool("learn-appearance", train + (dir / "again.json").string()).exit_code, 0);
+  EXPECT_EQ(slurp(classifier), slurp(dir / "again.json"));
+
+  const std::string classify = "classify --classifier " + classifier + " --session " +
+                               session(ToolFamily::hook, 3).string() + " -o ";
+  run = run_tool("learn-appearance", classify + "-");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Json::parse(run.out)["extractor"], "dnn");
+  // The same network elsewhere is fine; another network is refused, naming it.
+  fs::copy_file(net, dir / "moved.onnx");
+  EXPECT_EQ(run_tool("learn-appearance", classify + "- --backbone " + (dir / "moved.onnx").string()).exit_code, 0);
+  const auto other = write_network(dir / "other.onnx", {16, 3, 32, 32, 4}).string();
+  const auto out = (dir / "out.json").string();
+  run = run_tool("learn-appearance", classify + out + " --backbone " + other);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find(other), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("SHA-256"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(AppearanceCli, TrainFromAnImageList) {
+  const auto dir = scratch_dir("appearance-cli-images");
+  std::string list = "# path label x y w h\n";
+  for (const auto family : {ToolFamily::hoe, ToolFamily::t_bar}) {
+    const std::string dir_of_session = session(family, 0).string();
+    const SessionInfo info = read_session(dir_of_session);
+    for (std::size_t i = 0; i < info.views.size(); ++i) {
+      const cv::Rect box = cv::boundingRect(read_view(dir_of_session, info, i).blob);
+      const std::string name = to_string(family) + std::to_string(i) + ".png";  // relative to the list
+      fs::copy_file(fs::path(dir_of_session) / info.views[i].dir / "left.png", dir / name);
+      list += fmt::format("{} {} {} {} {} {}\n", name, to_string(family), box.x, box.y, box.width, box.height);
+    }
+  }
+  write_text(dir / "list.txt", list);
+  const auto classifier = (dir / "classifier.json").string();
+  auto run = run_tool("learn-appearance", "train --images " + (dir / "list.txt").string() + " -q -o " + classifier);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(read_json(classifier)["training"]["samples"], 10);
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " +
+                                         session(ToolFamily::t_bar, 3).string() + " -q -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Json::parse(run.out)["label"], to_string(ToolFamily::t_bar));
+  // A malformed line and a box outside its image are named.
+  write_text(dir / "bad.txt", "hoe0.png hoe 1 2 3\n");
+  run = run_tool("learn-appearance", "train --images " + (dir / "bad.txt").string() + " -o " + (dir / "x.json").string());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("line 1"), std::string::npos) << run.err;
+  write_text(dir / "outside.txt", "hoe0.png hoe 300 230 50 50\n");
+  run = run_tool("learn-appearance", "train --images " + (dir / "outside.txt").string() + " -o " + (dir / "x.json").string());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("hoe0.png: box 300,230,50,50 is not inside"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
+}
+
+// Exit code, exactly one error line naming `word`, and no output or temporary file left.
+void expect_clean_failure(const fs::path& dir, const std::string& args, int code, const std::string& word) {
+  const fs::path output = dir / "out.json";
+  const auto run = run_tool("learn-appearance", args + " -o " + output.string());
+  SCOPED_TRACE(args + "\n" + run.err);
+  EXPECT_EQ(run.exit_code, code);
+  std::istringstream lines(run.err);
+  std::vector<std::string> errors;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(": error: ") != std::string::npos) errors.push_back(line);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find(word), std::string::npos);
+  EXPECT_FALSE(fs::exists(output));
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
+}
+
+TEST(AppearanceCli, BadInputsFailCleanly) {
+  const auto dir = scratch_dir("appearance-cli-bad");
+  const auto classifier = (dir / "classifier.json").string();
+  ASSERT_EQ(run_tool("learn-appearance", "train" + joined(sessions({ToolFamily::hoe, ToolFamily::t_bar}, {0}), "--session ") +
+                                             " -q -o " + classifier).exit_code, 0);
+  const std::string classify = "classify --classifier " + classifier;
+
+  // An image that is not an image.
+  write_text(dir / "fake.png", "this is text");
+  expect_clean_failure(dir, classify + " --image " + (dir / "fake.png").string() + " --bbox 1,1,5,5", 2,
+                       (dir / "fake.png").string());
+  // A box outside the image.
+  const std::string image = (session(ToolFamily::hoe, 0) / "views/000/left.png").string();
+  expect_clean_failure(dir, classify + " --image " + image + " --bbox 300,200,40,40", 2, "not inside the 320x240 image");
+  expect_clean_failure(dir, classify + " --image " + image + " --bbox 1,2,3", 2, "--bbox");
+  // A features file with rows of different lengths.
+  write_text(dir / "ragged.txt", "0.1 0.2 0.3\n0.1 0.2\n");
+  expect_clean_failure(dir, classify + " --features " + (dir / "ragged.txt").string(), 2, (dir / "ragged.txt").string());
+  // A database with one class: valid input, but nothing to tell apart.
+  LabelledFeatures one;
+  one.labels = {"hoe", "hoe"};
+  one.rows = {Eigen::VectorXd::Ones(4), Eigen::VectorXd::Zero(4)};
+  write_feature_db((dir / "db").string(), one);
+  expect_clean_failure(dir, "train --features-db " + (dir / "db").string(), 3, "at least two");
+  // A classifier from another extractor: features of another length.
+  write_text(dir / "short.txt", "0.1 0.2 0.3\n");
+  expect_clean_failure(dir, classify + " --features " + (dir / "short.txt").string(), 2, "builtin");
+  // Not a classifier, an unknown extractor, options of the other action.
+  write_text(dir / "frame.json", R"({"type": "tool_frame", "version": 1})");
+  expect_clean_failure(dir, "classify --classifier " + (dir / "frame.json").string() + " --features " +
+                                (dir / "short.txt").string(), 2, "classifier");
+  Json tampered = read_json(classifier);
+  tampered["extractor"]["name"] = "resnet";
+  write_json((dir / "tampered.json").string(), tampered);
+  expect_clean_failure(dir, "classify --classifier " + (dir / "tampered.json").string() + " --features " +
+                                (dir / "short.txt").string(), 2, "resnet");
+  expect_clean_failure(dir, "train --session " + session(ToolFamily::hoe, 0).string() + " --min-score 1", 2, "--min-score");
+  expect_clean_failure(dir, "train --session " + session(ToolFamily::hoe, 0).string() + " --label unknown", 2, "unknown");
+  expect_clean_failure(dir, classify, 2, "exactly one");
+}
+
+}  // namespace
+}  // namespace toolinc
