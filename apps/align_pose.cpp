@@ -1,0 +1,190 @@
+// align-pose --model MODEL --view VIEW.ply -o POSE.json [--oriented ORIENTED.ply] [--tooltip TIP.json]:
+// how a known tool is held, from one partial view (paper sect. 5).
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "toolinc/app/command.hpp"
+#include "toolinc/app/options.hpp"
+#include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/io/cloud_io.hpp"
+#include "toolinc/io/results_json.hpp"
+#include "toolinc/registration/align_pose.hpp"
+
+namespace {
+
+using namespace toolinc;
+
+void add_align_pose_options(CLI::App& cli, AlignPoseConfig& c) {
+  const auto group = "Alignment";
+  const auto positive = CLI::PositiveNumber;
+  cli.add_option("--hand-radius", c.hand_radius, "View points this close to the hand origin are the hand's (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--min-view-points", c.min_view_points, "Fewer resampled view points cannot fix a pose")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-extent-ratio", c.max_extent_ratio, "Model and view extents further apart: different units")
+      ->capture_default_str()->group(group)->check(CLI::Range(1.0, 1e6));
+  cli.add_option("--model-voxel", c.model_voxel, "Resampling of the model (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--view-voxel", c.view_voxel, "Resampling of the view (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--roll-step-deg", c.roll_step_deg, "Step of the rolls about the handle tried as hypotheses (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(1.0, 180.0));
+  cli.add_option("--refine-candidates", c.refine_candidates, "Distinct hypotheses refined fully")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-iterations", c.icp.max_iterations, "Iterations of the final ICP")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-correspondence", c.icp.max_correspondence, "Correspondence distance of the final ICP (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--inlier-distance", c.icp.inlier_distance, "View points this close to the model are inliers (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-translation", c.max_translation, "Feasible translation of the tool per axis (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--max-tilt-deg", c.max_tilt_deg, "Feasible tilt about the hand's Z (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 180.0));
+  cli.add_option("--max-roll-deg", c.max_roll_deg, "Feasible roll about the hand's X (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 90.0));
+  cli.add_option("--max-about-handle-deg", c.max_about_handle_deg, "Feasible rotation about the handle (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 180.0));
+  cli.add_option("--ambiguity-margin", c.ambiguity_margin, "Poses scoring within this of the best fit as well")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+}
+
+Json candidate_json(const PoseCandidate& c, const PoseCandidate& best, const AlignPoseConfig& config) {
+  return {{"matrix", to_json(c.hand_from_model)},
+          {"score", c.score},
+          {"inlier_ratio", c.inlier_ratio},
+          {"inlier_rmse_m", c.inlier_rmse},
+          {"rotation_from_chosen_deg", rotation_difference_deg(c.hand_from_model, best.hand_from_model)},
+          {"feasible", check_feasibility(c.hand_from_model, config).feasible}};
+}
+
+Json pose_json(const PoseResult& r, const AlignPoseConfig& config, const std::string& model_file,
+               const std::string& view_file, double model_ms, double total_ms) {
+  const Feasibility& f = r.feasibility;
+  Json candidates = Json::array();
+  for (const auto& c : r.candidates) candidates.push_back(candidate_json(c, r.best, config));
+  return {
+      {"type", "tool_pose"},
+      {"version", 1},
+      {"frame", "hand"},
+      {"model", model_file},
+      {"view", view_file},
+      {"matrix", to_json(r.best.hand_from_model)},
+      {"ok", f.feasible},
+      {"fitness",
+       {{"inlier_ratio", r.best.inlier_ratio},
+        {"inlier_rmse_m", r.best.inlier_rmse},
+        {"inlier_distance_m", config.icp.inlier_distance},
+        {"head_weighted_score", r.best.score},
+        {"score_sigma_m", config.score_sigma}}},
+      {"feasible", f.feasible},
+      {"feasibility",
+       {{"translation_m", to_json(f.translation)},
+        {"tilt_deg", f.tilt_deg},
+        {"roll_deg", f.roll_deg},
+        {"about_handle_deg", f.about_handle_deg},
+        {"reason", f.reason},
+        {"limits",
+         {{"max_translation_m", config.max_translation},
+          {"max_tilt_deg", config.max_tilt_deg},
+          {"max_roll_deg", config.max_roll_deg},
+          {"max_about_handle_deg", config.max_about_handle_deg}}}}},
+      {"iterations", r.best.iterations},
+      {"converged", r.best.converged},
+      {"ambiguous", r.ambiguous},
+      {"candidates", candidates},
+      {"diagnostics",
+       {{"view_points_input", r.view_points_input},
+        {"view_points_used", r.view_points_used},
+        {"hypotheses", r.hypotheses},
+        {"roll_step_deg", config.roll_step_deg},
+        {"hand_radius_m", config.hand_radius}}},
+      {"timing_ms",
+       {{"model", model_ms}, {"view", r.view_ms}, {"global", r.global_ms}, {"refine", r.refine_ms},
+        {"total", total_ms}}},
+  };
+}
+
+// The model's tooltip and frame, found on the model in its canonical pose, carried into the hand frame.
+Json carried_tooltip_json(const Points& model, const ToolFrame& model_frame, const Eigen::Matrix4d& hand_from_model,
+                          const TooltipConfig& config) {
+  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
+  const Vec3 t = hand_from_model.topRightCorner<3, 1>();
+  Tooltip tip = find_tooltip(model, model_frame, config);
+  tip.position = r * tip.position + t;
+  tip.surface_point = r * tip.surface_point + t;
+  ToolFrame frame = model_frame;
+  frame.axes = r * frame.axes;
+  frame.origin = r * frame.origin + t;
+  return tooltip_json(tip, frame, config);
+}
+
+PointCloud oriented_model(const PointCloud& model, const Eigen::Matrix4d& hand_from_model) {
+  PointCloud oriented = model;
+  oriented.points = transform_points(model.points, hand_from_model);
+  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
+  for (auto& n : oriented.normals) n = r * n;
+  oriented.frame = "hand";
+  return oriented;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Command command("align-pose", "The pose of a known tool in the hand from one partial view of it",
+                  {"find-tooltip", "align-pose"});
+  std::string model_file, view_file, oriented_file, tooltip_file, rule = "furthest";
+  AlignPoseConfig config;
+  TooltipConfig tooltip_config;
+  command.cli().add_option("--model", model_file, "The tool's model in the canonical pose (PLY or PCD)")->required();
+  command.cli().add_option("--view", view_file, "One view of the held tool in the hand frame (PLY or PCD)")->required();
+  command.add_output("Output tool_pose JSON (- for stdout)");
+  command.cli().add_option("--oriented", oriented_file, "Also write the model moved into the hand frame (PLY)");
+  command.cli().add_option("--tooltip", tooltip_file, "Also write the model's tooltip carried into the hand frame");
+  add_align_pose_options(command.cli(), config);
+  add_tooltip_options(command.cli(), tooltip_config, rule);
+  return command.run(argc, argv, [&] {
+    const auto start = std::chrono::steady_clock::now();
+    const auto since = [](auto t) { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count(); };
+    tooltip_config.rule = tooltip_rule_from_string(rule);
+    tooltip_config.hand_radius = config.hand_radius;
+    const PointCloud model = load_cloud(model_file);
+    const PointCloud view = load_cloud(view_file);
+
+    if (const std::string mismatch = unit_mismatch(model.points, view.points, config.max_extent_ratio);
+        !mismatch.empty())
+      throw InputError(mismatch.rfind("the model", 0) == 0 ? model_file : view_file, mismatch);
+    const auto model_start = std::chrono::steady_clock::now();
+    const PoseModel pose_model = [&]() -> PoseModel {
+      try {
+        return PoseModel(model.points, config);
+      } catch (const MethodError& e) {
+        throw InputError(model_file, std::string("not usable as a tool model: ") + e.what());
+      }
+    }();
+    const double model_ms = since(model_start);
+
+    PoseResult result;
+    try {
+      result = align_pose(pose_model, view.points, config);
+    } catch (const MethodError& e) {
+      throw MethodError(view_file + ": " + e.what());
+    }
+    const Eigen::Matrix4d& pose = result.best.hand_from_model;
+    const Json tooltip = tooltip_file.empty() ? Json() : carried_tooltip_json(model.points, pose_model.frame, pose,
+                                                                              tooltip_config);
+    const Feasibility& f = result.feasibility;
+    spdlog::info("pose: translation ({:.4f}, {:.4f}, {:.4f}) m, tilt {:.1f}, roll {:.1f}, about the handle {:.1f} "
+                 "deg; inliers {:.1f}% (RMSE {:.2f} mm); {} hypotheses{}",
+                 f.translation.x(), f.translation.y(), f.translation.z(), f.tilt_deg, f.roll_deg,
+                 f.about_handle_deg, 100.0 * result.best.inlier_ratio, 1000.0 * result.best.inlier_rmse,
+                 result.hypotheses, result.ambiguous ? "; ambiguous: poses fitting equally well are listed" : "");
+    write_json(command.output(), pose_json(result, config, model_file, view_file, model_ms, since(start)));
+    if (!f.feasible) throw MethodError("infeasible pose: " + f.reason + " (report written, \"ok\": false)");
+    if (!oriented_file.empty())
+      write_ply(oriented_file, oriented_model(model, pose), {false, command.command_line()});
+    if (!tooltip_file.empty()) write_json(tooltip_file, tooltip);
+  });
+}

@@ -1,0 +1,80 @@
+// The simulated exploration scene rendered with a z-buffer on the left camera's image: the tool (splatted
+// surface samples), the hand (a box), the table and the wall. Shared by the session simulator, which turns
+// a render into what the robot records, and the partial-view renderer, which keeps the tool's visible
+// points.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "toolinc/core/point_cloud.hpp"
+#include "toolinc/synth/session_simulator.hpp"
+
+namespace toolinc::scene {
+
+using Pose = Eigen::Matrix4d;
+
+inline Vec3 apply(const Pose& pose, const Vec3& p) {
+  return pose.topLeftCorner<3, 3>() * p + pose.topRightCorner<3, 1>();
+}
+Pose inverse(const Pose& pose);
+
+enum class Surface : std::uint8_t { nothing, wall, table, hand, tool };
+
+// BGR, as the images are written.
+using Colour = Eigen::Vector3f;
+
+// The tool as it is rendered: dense surface samples in the canonical pose, with colours.
+struct RenderModel {
+  Points points, normals;     // normals may be empty
+  std::vector<Colour> colours;
+  double spacing = 0;         // m, typical distance between neighbouring samples
+};
+
+// The configured procedural shape sampled at render_spacing, or the configured model as it is.
+RenderModel render_model(const SessionSimulatorConfig& config);
+
+// One rendered view: per pixel the camera depth (z), what is seen and its shaded colour.
+struct Render {
+  int width, height;
+  std::vector<double> depth;
+  std::vector<Surface> surface;
+  std::vector<Colour> colour;
+  Render(int w, int h)
+      : width(w), height(h), depth(static_cast<std::size_t>(w) * h, std::numeric_limits<double>::infinity()),
+        surface(depth.size(), Surface::nothing), colour(depth.size(), Colour::Zero()) {}
+  void offer(int u, int v, double z, Surface what, const Colour& c) {
+    const std::size_t i = static_cast<std::size_t>(v) * width + u;
+    if (z < depth[i]) depth[i] = z, surface[i] = what, colour[i] = c;
+  }
+};
+
+// The ray through pixel (u, v) in camera coordinates, scaled so that its z is 1: the ray parameter at a
+// hit is then the hit's camera depth.
+Vec3 pixel_ray(const CameraModel& camera, int u, int v);
+
+struct Box {
+  Vec3 lo, hi;
+};
+
+// The configured hand, grown so that the fingers close around the handle's first centimetres wherever
+// the grasp puts them (the canonical handle starts at the origin and runs along -Y).
+Box hand_box(const SessionSimulatorConfig& config);
+
+// Table and wall, and the hand box, by casting each pixel's ray.
+void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, const Pose& root_from_camera,
+                     const Pose& hand_from_camera, Render& render);
+
+// The tool by splatting its samples, each over the pixels within its footprint.
+void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
+                 Render& render);
+
+// The gaze: like lookAtTool, which refines the fixation from the image, the eye looks at the tool's
+// bounding-box centre and then twice re-aims at the centre of the tool's extent in the image, so the
+// tool, which matters, is centred despite perspective; the hand may leave the image at the bottom.
+// Returns root_from_camera.
+Pose fixate_tool(const SessionSimulatorConfig& config, const RenderModel& model, const Pose& root_from_canonical);
+
+}  // namespace toolinc::scene

@@ -1,0 +1,89 @@
+#include "toolinc/synth/partial_view.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/core/rigid.hpp"
+#include "toolinc/synth/render.hpp"
+
+namespace toolinc {
+
+Points render_partial_view(const SessionSimulatorConfig& scene, const PartialViewConfig& config, Rng& rng) {
+  using namespace toolinc::scene;
+  const RenderModel model = render_model(scene);
+  const Pose root_from_hand = exploration_hand_pose(scene.hand, config.wrist_deg);
+  const Pose root_from_camera = fixate_tool(scene, model, root_from_hand * scene.hand_from_canonical);
+  const Pose camera_from_canonical = inverse(root_from_camera) * root_from_hand * scene.hand_from_canonical;
+
+  const CameraModel& camera = scene.camera;
+  Render render(camera.width, camera.height);
+  render_ray_cast(scene, hand_box(scene), root_from_camera, inverse(root_from_hand) * root_from_camera, render);
+  render_tool(model, camera, camera_from_canonical, render);
+
+  // A sample is seen when its own splat is the front one at the pixel it projects to.
+  Points seen;
+  for (const Vec3& p : model.points) {
+    const Vec3 q = apply(camera_from_canonical, p);
+    if (q.z() <= 0.01) continue;
+    const long u = std::lround(camera.fx * q.x() / q.z() + camera.cx);
+    const long v = std::lround(camera.fy * q.y() / q.z() + camera.cy);
+    if (u < 0 || v < 0 || u >= render.width || v >= render.height) continue;
+    const std::size_t i = static_cast<std::size_t>(v) * render.width + static_cast<std::size_t>(u);
+    if (render.surface[i] == Surface::tool && q.z() <= render.depth[i] + config.depth_tolerance)
+      seen.push_back(apply(scene.hand_from_canonical, p));
+  }
+  Points view = remove_within(voxel_downsample(seen, config.spacing), Vec3::Zero(), config.hand_radius);
+  for (Vec3& p : view) p += config.noise_sigma * Vec3(rng.gaussian(), rng.gaussian(), rng.gaussian());
+  return view;
+}
+
+GraspRange any_grasp_range() {
+  GraspRange range;
+  range.about_handle_deg = 180.0;
+  range.tilt_deg = 60.0;
+  range.roll_deg = 15.0;
+  range.offset = 0.05;
+  return range;
+}
+
+PartialViewCase make_partial_view_case(ToolFamily family, std::uint32_t seed, const GraspRange& range,
+                                       const PartialViewConfig& config) {
+  Rng rng(seed * 7919u + static_cast<std::uint32_t>(family) * 104729u + 23u);
+  PartialViewCase c;
+  c.shape = default_shape(family);
+  for (double* v : {&c.shape.handle_length, &c.shape.handle_radius, &c.shape.head_length, &c.shape.head_width,
+                    &c.shape.head_height})
+    *v *= 1.0 + rng.uniform(-0.15, 0.15);
+  c.grasp = random_grasp(range, rng);
+  SessionSimulatorConfig scene;
+  scene.shape = c.shape;
+  scene.seed = seed;
+  scene.hand_from_canonical = c.grasp;
+  c.view = render_partial_view(scene, config, rng);
+  c.model = generate_tool(c.shape, seed + 1);
+  c.truth = tool_ground_truth(c.model.points, symmetry_of(family), c.grasp);
+  return c;
+}
+
+PoseErrors pose_errors(const PartialViewCase& c, const Eigen::Matrix4d& estimate) {
+  const Eigen::Matrix3d d = c.grasp.topLeftCorner<3, 3>().transpose() * estimate.topLeftCorner<3, 3>();
+  PoseErrors e;
+  switch (c.truth.symmetry) {
+    case ToolSymmetry::axial:  // the angle between the handles
+      e.rotation_deg = std::acos(std::clamp(d(1, 1), -1.0, 1.0)) * 180.0 / M_PI;
+      break;
+    case ToolSymmetry::front_back:
+      e.rotation_deg = std::min(rotation_angle_deg(d), rotation_angle_deg(d * Eigen::AngleAxisd(M_PI, Vec3::UnitY())));
+      break;
+    case ToolSymmetry::mirror:
+      e.rotation_deg = rotation_angle_deg(d);
+      break;
+  }
+  e.translation_m = (estimate.topRightCorner<3, 1>() - c.grasp.topRightCorner<3, 1>()).norm();
+  e.tooltip_m = tooltip_error(c.truth, tool_ground_truth(c.model.points, c.truth.symmetry, estimate).tooltips.front());
+  return e;
+}
+
+}  // namespace toolinc

@@ -1,0 +1,191 @@
+#include "toolinc/synth/render.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "toolinc/ann/kdtree.hpp"
+
+namespace toolinc::scene {
+namespace {
+
+using Rotation = Eigen::Matrix3d;
+
+// px: each sample covers the pixels within this (square) radius, so that a surface sampled at random
+// leaves almost no holes for its back to show through (at 0.7 mm spacing and 26 cm, about 8 samples
+// reach each pixel); silhouettes grow by up to a pixel.
+constexpr double kMinSplatRadius = 1.0;
+constexpr double kGripLength = 0.05;       // m of the handle the fingers close around
+
+Colour bgr(float r, float g, float b) { return {b, g, r}; }
+
+Colour family_colour(ToolFamily family) {
+  switch (family) {
+    case ToolFamily::stick: return bgr(170, 60, 40);
+    case ToolFamily::hoe: return bgr(40, 150, 60);
+    case ToolFamily::hook: return bgr(40, 90, 190);
+    case ToolFamily::rake: return bgr(230, 140, 30);
+    case ToolFamily::shovel: return bgr(210, 190, 40);
+    case ToolFamily::l_stick: return bgr(140, 60, 170);
+    case ToolFamily::t_bar: return bgr(30, 170, 180);
+    case ToolFamily::flat_top: return bgr(200, 50, 110);
+  }
+  return bgr(128, 128, 128);
+}
+const Colour kModelColour = bgr(90, 160, 220);
+const Colour kSkin = bgr(225, 180, 150);
+const Colour kWood = bgr(150, 105, 60);
+const Colour kWall = bgr(200, 200, 190);
+
+// Lambert-like shading with some ambient light, from the cosine between the surface and the ray.
+float shade(double cosine) { return static_cast<float>(0.35 + 0.65 * std::abs(cosine)); }
+
+double median_neighbour_distance(const Points& points) {
+  const KdTree tree(points);
+  std::vector<double> distances;
+  const std::size_t step = std::max<std::size_t>(1, points.size() / 1000);
+  for (std::size_t i = 0; i < points.size(); i += step) {
+    const auto near = tree.knn(points[i], 2);
+    if (near.size() == 2) distances.push_back(std::sqrt(near[1].distance2));
+  }
+  if (distances.empty()) return 0.0;
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  return distances[distances.size() / 2];
+}
+
+}  // namespace
+
+Pose inverse(const Pose& pose) {
+  const Eigen::Matrix3d r = pose.topLeftCorner<3, 3>();
+  Pose inverse = Pose::Identity();
+  inverse.topLeftCorner<3, 3>() = r.transpose();
+  inverse.topRightCorner<3, 1>() = -r.transpose() * pose.topRightCorner<3, 1>();
+  return inverse;
+}
+
+RenderModel render_model(const SessionSimulatorConfig& config) {
+  RenderModel model;
+  if (config.model.empty()) {
+    ToolShape shape = config.shape;
+    shape.spacing = config.render_spacing;
+    PointCloud cloud = generate_tool(shape, config.seed);
+    model.points = std::move(cloud.points);
+    model.normals = std::move(cloud.normals);
+    model.colours.assign(model.points.size(), family_colour(shape.family));
+    model.spacing = shape.spacing;
+  } else {
+    model.points = config.model.points;
+    model.normals = config.model.normals;
+    for (std::size_t i = 0; i < model.points.size(); ++i) {
+      const auto& c = config.model.has_colors() ? config.model.colors[i] : Rgb{};
+      model.colours.push_back(config.model.has_colors() ? bgr(c[0], c[1], c[2]) : kModelColour);
+    }
+    model.spacing = median_neighbour_distance(model.points);
+  }
+  return model;
+}
+
+Vec3 pixel_ray(const CameraModel& camera, int u, int v) {
+  return {(u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0};
+}
+
+Box hand_box(const SessionSimulatorConfig& config) {
+  const double radius = config.model.empty() ? config.shape.handle_radius : 0.01;
+  Box box{config.hand_box_min, config.hand_box_max};
+  for (const Vec3& end : {Vec3(0, 0, 0), Vec3(0, -kGripLength, 0)}) {
+    const Vec3 p = apply(config.hand_from_canonical, end);
+    box.lo = box.lo.cwiseMin(p - Vec3::Constant(radius));
+    box.hi = box.hi.cwiseMax(p + Vec3::Constant(radius));
+  }
+  return box;
+}
+
+
+void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, const Pose& root_from_camera,
+                     const Pose& hand_from_camera, Render& render) {
+  const Rotation root_r = root_from_camera.topLeftCorner<3, 3>(), hand_r = hand_from_camera.topLeftCorner<3, 3>();
+  const Vec3 eye = root_from_camera.topRightCorner<3, 1>(), eye_in_hand = hand_from_camera.topRightCorner<3, 1>();
+  const Vec3 &lo = hand.lo, &hi = hand.hi;
+  for (int v = 0; v < render.height; ++v)
+    for (int u = 0; u < render.width; ++u) {
+      const Vec3 ray = pixel_ray(config.camera, u, v), d = root_r * ray;
+      const double unit = 1.0 / ray.norm();
+      if (d.z() < 0) {
+        const double t = (config.table_height - eye.z()) / d.z();
+        const Vec3 hit = eye + t * d;  // wood grain across root x, wavy along y
+        const double grain = 0.85 + 0.15 * std::sin(60.0 * hit.x() + 4.0 * std::sin(15.0 * hit.y()));
+        render.offer(u, v, t, Surface::table, kWood * static_cast<float>(grain) * shade(d.z() * unit));
+      }
+      if (d.x() < 0) {
+        const double t = (-config.wall_distance - eye.x()) / d.x();
+        render.offer(u, v, t, Surface::wall, kWall * shade(d.x() * unit));
+      }
+      // Slab test in the hand frame; the entry face's axis shades it.
+      const Vec3 dh = hand_r * ray;
+      double t_in = 0, t_out = std::numeric_limits<double>::infinity();
+      int face = -1;
+      for (int a = 0; a < 3 && t_in <= t_out; ++a) {
+        if (std::abs(dh[a]) < 1e-12) {
+          if (eye_in_hand[a] < lo[a] || eye_in_hand[a] > hi[a]) t_out = -1;
+          continue;
+        }
+        double t0 = (lo[a] - eye_in_hand[a]) / dh[a], t1 = (hi[a] - eye_in_hand[a]) / dh[a];
+        if (t0 > t1) std::swap(t0, t1);
+        if (t0 > t_in) t_in = t0, face = a;
+        t_out = std::min(t_out, t1);
+      }
+      if (face >= 0 && t_in <= t_out) render.offer(u, v, t_in, Surface::hand, kSkin * shade(dh[face] * unit));
+    }
+}
+
+// The tool by splatting its samples, each over the pixels within its footprint.
+void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
+                 Render& render) {
+  const Rotation r = camera_from_canonical.topLeftCorner<3, 3>();
+  const Vec3 t = camera_from_canonical.topRightCorner<3, 1>();
+  for (std::size_t i = 0; i < model.points.size(); ++i) {
+    const Vec3 q = r * model.points[i] + t;
+    if (q.z() <= 0.01) continue;
+    const double u = camera.fx * q.x() / q.z() + camera.cx, v = camera.fy * q.y() / q.z() + camera.cy;
+    const double radius = std::max(kMinSplatRadius, 0.8 * model.spacing * camera.fx / q.z());
+    const float light = model.normals.empty() ? 1.0f : shade((r * model.normals[i]).dot(q.normalized()));
+    const Colour c = model.colours[i] * light;
+    const int u0 = std::max(0, static_cast<int>(std::ceil(u - radius)));
+    const int u1 = std::min(render.width - 1, static_cast<int>(std::floor(u + radius)));
+    const int v0 = std::max(0, static_cast<int>(std::ceil(v - radius)));
+    const int v1 = std::min(render.height - 1, static_cast<int>(std::floor(v + radius)));
+    for (int pv = v0; pv <= v1; ++pv)
+      for (int pu = u0; pu <= u1; ++pu) render.offer(pu, pv, q.z(), Surface::tool, c);
+  }
+}
+
+Pose fixate_tool(const SessionSimulatorConfig& config, const RenderModel& model, const Pose& root_from_canonical) {
+  Points tool;
+  tool.reserve(model.points.size());
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& p : model.points) {
+    tool.push_back(apply(root_from_canonical, p));
+    lo = lo.cwiseMin(tool.back()), hi = hi.cwiseMax(tool.back());
+  }
+  const CameraModel& camera = config.camera;
+  Vec3 target = (lo + hi) / 2;
+  Pose root_from_camera = camera_looking_at(config.eye_position, target);
+  for (int step = 0; step < 2; ++step) {
+    const Pose camera_from_root = inverse(root_from_camera);
+    Eigen::Vector2d image_lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), image_hi = -image_lo;
+    for (const Vec3& p : tool) {
+      const Vec3 q = apply(camera_from_root, p);
+      if (q.z() <= 0.01) continue;
+      const Eigen::Vector2d pixel(camera.fx * q.x() / q.z() + camera.cx, camera.fy * q.y() / q.z() + camera.cy);
+      image_lo = image_lo.cwiseMin(pixel), image_hi = image_hi.cwiseMax(pixel);
+    }
+    const Eigen::Vector2d centre = (image_lo + image_hi) / 2;
+    const double depth = apply(camera_from_root, target).z();
+    const Vec3 ray((centre.x() - camera.cx) / camera.fx, (centre.y() - camera.cy) / camera.fy, 1.0);
+    target = apply(root_from_camera, depth * ray);
+    root_from_camera = camera_looking_at(config.eye_position, target);
+  }
+  return root_from_camera;
+}
+
+}  // namespace toolinc::scene
