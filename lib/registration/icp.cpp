@@ -49,9 +49,16 @@ IcpResult align_point_to_plane(const Points& source, const IcpTarget& target, co
     }
     result.iterations = iteration + 1;
     if (pairs < 6) break;
-    // Damping keeps directions the geometry does not constrain (the roll of a stick about its axis)
-    // where they are, instead of letting noise turn them freely.
-    H.diagonal().array() += config.damping * H.trace() / 6.0;
+    // A weak prior towards the initial pose keeps directions the geometry does not constrain (the roll
+    // of a stick about its axis) where they started instead of letting noise turn them freely, and,
+    // unlike per-step damping, lets every step shrink to zero so the iteration converges.
+    const double prior = config.damping * H.trace() / 6.0;
+    const Eigen::Matrix4d moved = result.target_from_source * initial.inverse();
+    const Eigen::AngleAxisd turned(Eigen::Matrix3d(moved.topLeftCorner<3, 3>()));
+    Eigen::Matrix<double, 6, 1> offset;
+    offset << turned.angle() * turned.axis(), moved.topRightCorner<3, 1>();
+    H.diagonal().array() += prior;
+    g += prior * offset;
     const Eigen::Matrix<double, 6, 1> delta = H.ldlt().solve(-g);
     if (!delta.allFinite()) break;
     result.target_from_source = exp_se3(delta) * result.target_from_source;

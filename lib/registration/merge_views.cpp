@@ -29,7 +29,7 @@ MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig&
       continue;
     }
     const IcpTarget target(voxel_downsample(accumulated, config.voxel_size));
-    const IcpResult icp = align_point_to_plane(voxel_downsample(views[v].points, config.voxel_size), target,
+    const IcpResult icp = align_point_to_plane(voxel_downsample(views[v].points, config.registration_voxel), target,
                                                Eigen::Matrix4d::Identity(), config.icp);
     merge.correction = icp.target_from_source;
     for (int i = 0; i < 3; ++i) merge.translation_m[i] = icp.target_from_source(i, 3);

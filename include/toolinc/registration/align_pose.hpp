@@ -44,10 +44,10 @@ struct AlignPoseConfig {
   double same_pose_deg = 5.0;     // hypotheses closer than this rotation ...
   double same_pose_m = 0.01;      // ... and this translation converged to the same pose
 
-  // Local refinement (view onto model). Light damping: the view's head must be free to turn the tool about
-  // its handle, which the default damping holds back for many iterations.
+  // Local refinement (view onto model). A lighter prior than the default: the refinement starts from a
+  // coarse hypothesis, and the view's head must be free to turn the tool about its handle.
   // Steps below 1e-5 (10 um, 0.0006 deg) are far under the stereo noise.
-  IcpConfig icp{30, 0.01, 0.003, 0.005, 1e-5, 1e-3};
+  IcpConfig icp{30, 0.01, 0.003, 0.005, 1e-5, 1e-4};
 
   // Feasibility of hand_from_model = T(t) Rz(tilt) Rx(roll) Ry(about_handle) (the grasp's parameters).
   double max_translation = 0.10;  // m per axis (the paper)

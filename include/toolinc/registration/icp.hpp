@@ -13,9 +13,9 @@ struct IcpConfig {
   double max_correspondence = 0.02;  // m: farther pairs are not correspondences
   double kernel_scale = 0.003;       // m: Geman-McClure scale (about 2 sigma of stereo noise)
   double inlier_distance = 0.005;    // m: pairs this close count as inliers in the fitness figures
-  double min_step = 1e-6;            // stop when an update moves less than this (m, rad)
-  double damping = 1e-2;             // relative to the mean curvature of the problem: holds still
-                                     //    what the geometry leaves free
+  double min_step = 1e-5;            // stop when an update moves less than this (m, rad)
+  double damping = 1e-3;             // weight of a prior towards the initial pose, relative to the
+                                     //    problem's mean curvature: holds still what the geometry leaves free
 };
 
 struct IcpResult {

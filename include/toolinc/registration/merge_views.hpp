@@ -13,6 +13,8 @@ namespace toolinc {
 struct MergeConfig {
   IcpConfig icp;
   double voxel_size = 0.002;         // m: the model's grid (the original's 2 mm)
+  double registration_voxel = 0.004; // m: views are resampled this coarsely for ICP (speed; the fit
+                                     //    is to the model's 2 mm surface all the same)
   double max_translation = 0.10;     // m per axis: the original's feasibility check
   double max_rotation_deg = 20.0;    // the original checks none, and so accepts flipped views
   double min_inlier_ratio = 0.4;     // share of a view's points that must land on the model
