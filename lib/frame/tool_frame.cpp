@@ -99,7 +99,8 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
       within += r <= refit.radius + band;
       inside += r < 0.5 * refit.radius;
     }
-    const bool surface = inside <= config.handle_solid_fraction * within;
+    // A cylinder far wider than a handle is a fit that ran off on a half-seen handle: not trusted either.
+    const bool surface = inside <= config.handle_solid_fraction * within && refit.radius <= config.handle_max_radius;
     if (!surface) {
       // Not a surface (a filled model, or no handle cylinder to speak of): the points' own line.
       const PrincipalAxes line = principal_axes(on_handle);

@@ -27,6 +27,7 @@ struct ToolFrameConfig {
   double handle_solid_fraction = 0.1; // more of the handle's points than this inside half its radius
                                     //    means a filled model (about 25%; a noisy surface has < 1%): its
                                     //    principal axis is used instead of the cylinder's
+  double handle_max_radius = 0.03;  // m: a fitted handle cylinder wider than this is not trusted
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
