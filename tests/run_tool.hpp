@@ -1,6 +1,7 @@
 // Running the project's executables from tests: exit code and what they printed.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace toolinc::testing {
 
@@ -41,6 +43,21 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// A failed run as users must see it: exactly one error line on stderr, naming `word`, and neither the
+// output nor a temporary file left in `dir`.
+inline void expect_failure_left_nothing(const ToolRun& run, const std::string& word, const std::filesystem::path& output,
+                                        const std::filesystem::path& dir) {
+  std::istringstream lines(run.err);
+  std::vector<std::string> errors;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(": error: ") != std::string::npos) errors.push_back(line);
+  ASSERT_EQ(errors.size(), 1u) << run.err;
+  EXPECT_NE(errors[0].find(word), std::string::npos) << errors[0];
+  EXPECT_FALSE(std::filesystem::exists(output));
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
 }
 
 }  // namespace toolinc::testing

@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 using testing::run_tool;
 using testing::scratch_dir;
 using testing::slurp;
+using testing::expect_failure_left_nothing;
 
 // Tools that differ in shape and colour (the simulator renders each family in its own colour).
 const std::vector<ToolFamily> kTools = {ToolFamily::hoe,     ToolFamily::hook,  ToolFamily::rake,
@@ -474,15 +475,7 @@ void expect_clean_failure(const fs::path& dir, const std::string& args, int code
   const auto run = run_tool("learn-appearance", args + " -o " + output.string());
   SCOPED_TRACE(args + "\n" + run.err);
   EXPECT_EQ(run.exit_code, code);
-  std::istringstream lines(run.err);
-  std::vector<std::string> errors;
-  for (std::string line; std::getline(lines, line);)
-    if (line.find(": error: ") != std::string::npos) errors.push_back(line);
-  ASSERT_EQ(errors.size(), 1u);
-  EXPECT_NE(errors[0].find(word), std::string::npos);
-  EXPECT_FALSE(fs::exists(output));
-  for (const auto& entry : fs::directory_iterator(dir))
-    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
+  expect_failure_left_nothing(run, word, output, dir);
 }
 
 TEST(AppearanceCli, BadInputsFailCleanly) {

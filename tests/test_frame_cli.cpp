@@ -36,15 +36,7 @@ void expect_clean_failure(const std::string& tool, const fs::path& input, const 
   const auto run = run_tool(tool, input.string() + " " + extra + " -o " + output.string());
   SCOPED_TRACE(tool + " " + input.string() + "\n" + run.err);
   EXPECT_NE(std::find(codes.begin(), codes.end(), run.exit_code), codes.end()) << "exit " << run.exit_code;
-  std::istringstream lines(run.err);
-  std::vector<std::string> errors;
-  for (std::string line; std::getline(lines, line);)
-    if (line.find(": error: ") != std::string::npos) errors.push_back(line);
-  ASSERT_EQ(errors.size(), 1u);
-  EXPECT_NE(errors[0].find(word), std::string::npos);
-  EXPECT_FALSE(fs::exists(output));
-  for (const auto& entry : fs::directory_iterator(input.parent_path()))
-    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
+  expect_failure_left_nothing(run, word, output, input.parent_path());
 }
 
 }  // namespace
