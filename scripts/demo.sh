@@ -49,7 +49,11 @@ for family in hoe hook rake; do
   printf '%-9s %-16s %-28s %s\n' "$family" "$merged of $(grep -c '"file"' "$result/merge_report.json")" \
     "$(json_vector "$result/tooltip.json" position)" "$(json_error_mm "$result/evaluation.json")"
 done
+for family in hoe hook rake; do
+  result=$out/pipeline/$family
+  "$bin/render" -q "$result/model.ply" --frame "$result/frame.json" --tooltip "$result/tooltip.json" -o "$result/model.png"
+done
 echo
 echo "Outputs: $out/held/ (frame, tooltip, evaluation per sample cloud); $out/sessions/ (the simulated"
 echo "sessions); $out/pipeline/<session>/ (views/, model.ply, merge_report.json, frame.json, tooltip.json,"
-echo "evaluation.json)."
+echo "evaluation.json, and model.png: the model with its frame and tooltip in four views)."

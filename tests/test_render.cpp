@@ -1,0 +1,210 @@
+// render (issue 7): a generated tool with a frame and tooltip drawn headless; axis colours at the axes'
+// projected ends, the tooltip marker at the tooltip, deterministic bytes, and clean failures on bad input.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "run_tool.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/io/cloud_io.hpp"
+#include "toolinc/io/json_file.hpp"
+#include "toolinc/io/results_json.hpp"
+#include "toolinc/render/render.hpp"
+#include "toolinc/synth/tool_generator.hpp"
+
+using namespace toolinc;
+using namespace toolinc::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The generated hoe (points only), its frame at the centroid rotated a little off the hand frame's axes
+// (so no axis is along a line of sight in the orthographic views), and its tooltip: the point furthest
+// along the frame's X.
+RenderScene hoe_scene() {
+  RenderScene scene;
+  scene.clouds.push_back({"hoe.ply", generate_tool(default_shape(ToolFamily::hoe), 1).points});
+  const Points& points = scene.clouds[0].points;
+  ToolFrame frame;
+  for (const auto& p : points) frame.origin += p;
+  frame.origin /= static_cast<double>(points.size());
+  frame.axes = (Eigen::AngleAxisd(0.35, Vec3::UnitY()) * Eigen::AngleAxisd(-0.3, Vec3::UnitX()) *
+                Eigen::AngleAxisd(0.25, Vec3::UnitZ()))
+                   .toRotationMatrix();
+  scene.frame = frame;
+  Vec3 tip = points.front();
+  for (const auto& p : points)
+    if ((p - frame.origin).dot(frame.axes.col(0)) > (tip - frame.origin).dot(frame.axes.col(0))) tip = p;
+  scene.tooltip = tip;
+  return scene;
+}
+
+bool has_colour(const cv::Mat& image, const cv::Scalar& colour) {
+  const cv::Vec3b c(static_cast<uchar>(colour[0]), static_cast<uchar>(colour[1]), static_cast<uchar>(colour[2]));
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x)
+      if (image.at<cv::Vec3b>(y, x) == c) return true;
+  return false;
+}
+
+// The colour exactly, within `radius` pixels of `at`.
+bool colour_near(const cv::Mat& image, cv::Point at, const cv::Scalar& colour, int radius) {
+  const cv::Rect window = cv::Rect(at.x - radius, at.y - radius, 2 * radius + 1, 2 * radius + 1) &
+                          cv::Rect(0, 0, image.cols, image.rows);
+  return !window.empty() && has_colour(image(window), colour);
+}
+
+PanelProjection in_panel(const RenderScene& scene, const Vec3& point, RenderPanel panel) {
+  return project_to_panels(scene, point)[static_cast<int>(panel)];
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+// Exit 2, exactly one error line naming `file`, no output and no temporary file left.
+void expect_input_error(const std::string& args, const fs::path& output, const std::string& file) {
+  const auto run = run_tool("render", args + " -o " + output.string());
+  SCOPED_TRACE(args + "\n" + run.err);
+  EXPECT_EQ(run.exit_code, 2);
+  std::istringstream lines(run.err);
+  std::vector<std::string> errors;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(": error: ") != std::string::npos) errors.push_back(line);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find(file), std::string::npos);
+  EXPECT_FALSE(fs::exists(output));
+  for (const auto& entry : fs::directory_iterator(output.parent_path()))
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
+}
+
+}  // namespace
+
+TEST(Render, ImageSizeAndPanels) {
+  const RenderScene scene = hoe_scene();
+  const cv::Mat image = render_scene(scene);
+  EXPECT_EQ(image.cols, 1200);
+  EXPECT_EQ(image.rows, 900);
+  EXPECT_EQ(image.type(), CV_8UC3);
+  const auto where = project_to_panels(scene, scene.clouds[0].points.front());
+  ASSERT_EQ(where.size(), 4u);
+  for (const auto& p : where) EXPECT_TRUE(p.inside) << to_string(p.panel);
+
+  RenderOptions small;
+  small.width = 800;
+  small.height = 640;
+  const cv::Mat other = render_scene(scene, small);
+  EXPECT_EQ(other.cols, 800);
+  EXPECT_EQ(other.rows, 640);
+}
+
+TEST(Render, AxesColoursAtTheirProjectedEnds) {
+  const RenderScene scene = hoe_scene();
+  const cv::Mat image = render_scene(scene);
+  const cv::Scalar colours[] = {kRenderAxisX, kRenderAxisY, kRenderAxisZ};
+  const auto tip = project_to_panels(scene, *scene.tooltip);
+  for (int panel = 0; panel < kRenderPanelCount; ++panel) {
+    const auto origin = project_to_panels(scene, scene.frame->origin)[panel];
+    for (int a = 0; a < 3; ++a) {
+      const auto end = project_to_panels(scene, scene.frame->origin + 0.05 * scene.frame->axes.col(a))[panel];
+      SCOPED_TRACE(to_string(end.panel) + " axis " + std::to_string(a));
+      ASSERT_TRUE(end.inside);
+      const double length = cv::norm(end.pixel - origin.pixel);
+      EXPECT_GT(length, 8.0);  // the frame is tilted so every axis shows in every view
+      if (cv::norm(end.pixel - tip[panel].pixel) < 16) continue;  // under the tooltip marker
+      EXPECT_TRUE(colour_near(image, end.pixel, colours[a], 2));
+      // Half way along the axis too, unless another axis crosses there.
+      const cv::Point mid = (origin.pixel + end.pixel) / 2;
+      EXPECT_TRUE(colour_near(image, mid, colours[a], 2) || colour_near(image, mid, colours[(a + 1) % 3], 2) ||
+                  colour_near(image, mid, colours[(a + 2) % 3], 2));
+    }
+  }
+  // Without a frame no axis colour appears anywhere (the clouds' colours never equal them).
+  RenderScene bare = scene;
+  bare.frame.reset();
+  const cv::Mat plain = render_scene(bare);
+  for (const auto& colour : colours) EXPECT_FALSE(has_colour(plain, colour));
+}
+
+TEST(Render, TooltipMarkerWhereItBelongs) {
+  const RenderScene scene = hoe_scene();
+  const cv::Mat image = render_scene(scene);
+  const cv::Vec3b magenta(255, 0, 255);
+  for (const auto& p : project_to_panels(scene, *scene.tooltip)) {
+    SCOPED_TRACE(to_string(p.panel));
+    ASSERT_TRUE(p.inside);
+    EXPECT_EQ(image.at<cv::Vec3b>(p.pixel), magenta);  // the cross's centre
+    // The circle around it: magenta 8 pixels to the left/right, none of it 30 pixels away.
+    EXPECT_TRUE(colour_near(image, p.pixel + cv::Point(8, 0), kRenderTooltip, 1));
+    EXPECT_TRUE(colour_near(image, p.pixel - cv::Point(8, 0), kRenderTooltip, 1));
+    EXPECT_FALSE(colour_near(image, p.pixel + cv::Point(0, 30), kRenderTooltip, 5));
+  }
+  RenderScene bare = scene;
+  bare.tooltip.reset();
+  EXPECT_FALSE(has_colour(render_scene(bare), kRenderTooltip));
+}
+
+TEST(Render, SameInputSameBytes) {
+  const RenderScene scene = hoe_scene();
+  EXPECT_EQ(encode_png(render_scene(scene)), encode_png(render_scene(hoe_scene())));
+
+  const auto dir = scratch_dir("render-cli");
+  PointCloud cloud;
+  cloud.points = scene.clouds[0].points;
+  cloud.frame = "hand";
+  write_ply((dir / "hoe.ply").string(), cloud);
+  write_json((dir / "frame.json").string(), tool_frame_json(*scene.frame, ToolFrameConfig{}));
+  Tooltip tooltip;
+  tooltip.position = *scene.tooltip;
+  write_json((dir / "tip.json").string(), tooltip_json(tooltip, *scene.frame, TooltipConfig{}));
+  const std::string args = (dir / "hoe.ply").string() + " --frame " + (dir / "frame.json").string() + " --tooltip " +
+                           (dir / "tip.json").string() + " -q -o ";
+  auto run = run_tool("render", args + (dir / "a.png").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(run.err.empty()) << run.err;
+  run = run_tool("render", args + (dir / "b.png").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string a = slurp(dir / "a.png"), b = slurp(dir / "b.png");
+  EXPECT_EQ(a, b);
+  const cv::Mat decoded = cv::imread((dir / "a.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(decoded.empty());
+  EXPECT_EQ(decoded.cols, 1200);
+  EXPECT_EQ(decoded.rows, 900);
+  // The executable draws what the library draws for the same scene (file name as the legend label).
+  RenderScene same = scene;
+  same.frame = read_tool_frame((dir / "frame.json").string());
+  same.tooltip = read_tooltip_position((dir / "tip.json").string());
+  same.clouds[0].points = read_cloud((dir / "hoe.ply").string()).points;
+  const cv::Mat expected = render_scene(same);
+  EXPECT_EQ(cv::norm(decoded, expected, cv::NORM_INF), 0.0);
+}
+
+TEST(Render, BadInputIsAnInputError) {
+  const auto dir = scratch_dir("render-bad");
+  write_text(dir / "empty.ply",
+             "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+             "end_header\n");
+  expect_input_error((dir / "empty.ply").string(), dir / "empty.png", "empty.ply");
+
+  PointCloud cloud;
+  cloud.points = generate_tool(default_shape(ToolFamily::hoe), 1).points;
+  write_ply((dir / "hoe.ply").string(), cloud);
+  Tooltip tooltip;
+  write_json((dir / "not_a_frame.json").string(), tooltip_json(tooltip, ToolFrame{}, TooltipConfig{}));
+  expect_input_error((dir / "hoe.ply").string() + " --frame " + (dir / "not_a_frame.json").string(),
+                     dir / "frame.png", "not_a_frame.json");
+
+  // A good cloud after an empty one still fails on the empty one.
+  expect_input_error((dir / "hoe.ply").string() + " " + (dir / "empty.ply").string(), dir / "two.png", "empty.ply");
+
+  // The library names the cloud too.
+  RenderScene scene;
+  scene.clouds.push_back({"nothing.ply", {}});
+  try {
+    render_scene(scene);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing.ply"), std::string::npos);
+  }
+}
