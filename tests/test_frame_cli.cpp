@@ -162,3 +162,20 @@ TEST(FrameCli, ShippedConfigHoldsTheDefaults) {
     EXPECT_EQ(plain.out, configured.out) << tool;
   }
 }
+
+TEST(FrameCli, ConfigSectionsLaterWinTopLevelLast) {
+  // find-tooltip reads the estimate-frame section, then its own: its own wins; top-level keys lose to both.
+  const auto dir = scratch_dir("frame-config-order");
+  const auto held = make_held_tool(ToolFamily::hoe, 4);
+  write_ply((dir / "hoe.ply").string(), as_cloud(held.observed));
+  write_text(dir / "c.json", R"({"min-neighbors": 1000, "find-tooltip": {"min-neighbors": 5}})");
+  auto run = run_tool("find-tooltip", (dir / "hoe.ply").string() + " -c " + (dir / "c.json").string() + " -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Json::parse(run.out)["diagnostics"]["density"]["min_neighbors"], 5);
+  write_text(dir / "d.json", R"({"estimate-frame": {"hand-radius": 0.07}, "find-tooltip": {"hand-radius": 0.065}})");
+  run = run_tool("find-tooltip", (dir / "hoe.ply").string() + " -c " + (dir / "d.json").string() + " -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  write_text(dir / "e.json", R"({"estimate-frame": {"hand-radius": 0.065}})");
+  const auto same = run_tool("find-tooltip", (dir / "hoe.ply").string() + " -c " + (dir / "e.json").string() + " -o -");
+  EXPECT_EQ(run.out, same.out);
+}

@@ -27,10 +27,12 @@ class JsonConfig : public CLI::Config {
       throw CLI::ConversionError("config file is not valid JSON: " + std::string(e.what()));
     }
     if (!json.is_object()) throw CLI::ConversionError("config file must hold a JSON object");
+    // CLI11 keeps the first value it reads for an option, so the items go most specific first: the
+    // last listed section, ..., the first, then the top level.
     std::vector<CLI::ConfigItem> items;
+    for (auto section = sections_.rbegin(); section != sections_.rend(); ++section)
+      if (json.contains(*section) && json[*section].is_object()) add_items(json[*section], items);
     add_items(json, items);
-    for (const auto& section : sections_)
-      if (json.contains(section) && json[section].is_object()) add_items(json[section], items);
     return items;
   }
 
