@@ -17,6 +17,8 @@ targets := $(foreach n,$(names),$(OUT)/$(n)/tooltip.json) \
 all: $(targets)
 
 .DELETE_ON_ERROR:
+# Every step's output is a result users look at, not an intermediate to delete.
+.SECONDARY:
 
 $(OUT)/%/views/.done: $(SESSIONS)/%/session.json
 	rm -rf $(OUT)/$*/views
