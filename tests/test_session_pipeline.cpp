@@ -185,3 +185,20 @@ TEST(SessionPipeline, CommandsFailCleanlyOnBadInput) {
                  3, "200 points", out);
   EXPECT_FALSE(read_json((dir / "r.json").string())["ok"].get<bool>());
 }
+
+TEST(SessionPipeline, MakefileRunsEveryStepOnEverySession) {
+  const auto dir = scratch_dir("pipeline-make");
+  for (const std::string family : {"hoe", "stick"})
+    ASSERT_EQ(run_tool("simulate-session", "-q --family " + family + " --seed 3 -o " + (dir / "sessions" / family).string())
+                  .exit_code, 0);
+  const std::string command = "make -s -f " + std::string(TOOLINC_SOURCE_DIR) + "/scripts/pipeline.mk SESSIONS=" +
+                              (dir / "sessions").string() + " OUT=" + (dir / "out").string() + " BIN=" + TOOLINC_BIN_DIR +
+                              " -j2 >" + (dir / "make.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << slurp(dir / "make.log");
+  for (const std::string family : {"hoe", "stick"})
+    for (const std::string file : {"views/view_000.ply", "model.ply", "merge_report.json", "frame.json", "tooltip.json"}) {
+      EXPECT_TRUE(fs::exists(dir / "out" / family / file)) << family << "/" << file;
+    }
+  const Json evaluation = read_json((dir / "out/hoe/evaluation.json").string());
+  EXPECT_LT(evaluation["tooltip"]["error_m"].get<double>(), 0.02);
+}
