@@ -104,12 +104,6 @@ std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
   return heap;
 }
 
-void KdTree::radius(const Vec3& query, double radius, std::vector<std::uint32_t>& out) const {
-  out.clear();
-  double bound2 = radius * radius;
-  search(query, bound2, [&](std::uint32_t index, double) { out.push_back(index); });
-}
-
 std::size_t KdTree::count_within(const Vec3& query, double radius, std::size_t enough) const {
   std::size_t count = 0;
   double bound2 = radius * radius;

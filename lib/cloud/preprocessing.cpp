@@ -72,12 +72,6 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
   return kept;
 }
 
-Points remove_statistical_outliers(const Points& points, int k, double std_multiplier) {
-  Points out;
-  for (auto i : statistical_inliers(points, k, std_multiplier)) out.push_back(points[i]);
-  return out;
-}
-
 Points estimate_normals(const Points& points, int k) {
   const KdTree tree(points);
   Points normals(points.size(), Vec3::UnitZ());

@@ -30,6 +30,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"principal_axes", {to_json(Vec3(frame.principal.col(0))), to_json(Vec3(frame.principal.col(1))),
                             to_json(Vec3(frame.principal.col(2)))}},
         {"handle_refinement_deg", frame.handle_refinement_deg},
+        {"handle_fit", {{"cylinder", frame.handle_cylinder}, {"radius_m", frame.handle_radius},
+                        {"rms_m", frame.handle_rms}}},
         {"symmetry",
          {{"score", frame.symmetry_score},
           {"score_meaning", "mean truncated mirror distance / tolerance: 0 perfect mirror, 1 none"},

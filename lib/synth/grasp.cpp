@@ -34,6 +34,15 @@ GraspRange exploration_grasp_range() {
   return range;
 }
 
+GraspRange any_grasp_range() {
+  GraspRange range;
+  range.about_handle_deg = 180.0;
+  range.tilt_deg = 60.0;
+  range.roll_deg = 15.0;
+  range.offset = 0.05;
+  return range;
+}
+
 Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from_canonical, double hand_radius,
                        double noise_sigma, Rng& rng) {
   const Eigen::Matrix3d rotation = hand_from_canonical.topLeftCorner<3, 3>();

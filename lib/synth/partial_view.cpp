@@ -39,15 +39,6 @@ Points render_partial_view(const SessionSimulatorConfig& scene, const PartialVie
   return view;
 }
 
-GraspRange any_grasp_range() {
-  GraspRange range;
-  range.about_handle_deg = 180.0;
-  range.tilt_deg = 60.0;
-  range.roll_deg = 15.0;
-  range.offset = 0.05;
-  return range;
-}
-
 PartialViewCase make_partial_view_case(ToolFamily family, std::uint32_t seed, const GraspRange& range,
                                        const PartialViewConfig& config) {
   Rng rng(seed * 7919u + static_cast<std::uint32_t>(family) * 104729u + 23u);

@@ -25,8 +25,6 @@ class KdTree {
   Neighbor nearest(const Vec3& query, double max_distance = std::numeric_limits<double>::infinity()) const;
   // Up to k nearest, sorted by distance.
   std::vector<Neighbor> knn(const Vec3& query, int k) const;
-  // Indices of all points within radius (unsorted).
-  void radius(const Vec3& query, double radius, std::vector<std::uint32_t>& out) const;
   // How many points lie within radius, stopping early once `enough` have been found.
   std::size_t count_within(const Vec3& query, double radius,
                            std::size_t enough = std::numeric_limits<std::size_t>::max()) const;

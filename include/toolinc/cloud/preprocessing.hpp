@@ -21,10 +21,9 @@ Points remove_within(const Points& points, const Vec3& center, double radius);
 // Keeps the points with at least min_neighbors others within radius.
 Points remove_isolated(const Points& points, double radius, std::size_t min_neighbors);
 
-// PCL-style statistical outlier removal: drops points whose mean distance to their k nearest
-// neighbours exceeds the global mean of that statistic by more than std_multiplier deviations.
-Points remove_statistical_outliers(const Points& points, int k, double std_multiplier);
-// The same test, as the indices of the points it keeps (so attributes can follow their points).
+// PCL-style statistical outlier removal, as the indices of the points it keeps (so attributes follow
+// their points): drops points whose mean distance to their k nearest neighbours exceeds the global mean
+// of that statistic by more than std_multiplier deviations.
 std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, double std_multiplier);
 
 // Unit normals from the covariance of each point's k nearest neighbours (sign arbitrary).

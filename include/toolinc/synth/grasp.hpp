@@ -28,6 +28,10 @@ Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng);
 // original's crop box.
 GraspRange exploration_grasp_range();
 
+// The grasps align-pose must cope with: any rotation about the handle, tilt +/-60 deg, roll +/-15 deg,
+// offsets +/-5 cm.
+GraspRange any_grasp_range();
+
 // The tool as the hand frame sees it: moved by the grasp, the points within hand_radius of the hand
 // origin removed (the hand hides them), Gaussian noise of sigma metres added per coordinate.
 Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from_canonical, double hand_radius,

@@ -29,9 +29,6 @@ struct PartialViewConfig {
 // draws the dense rendering samples, rng the noise.
 Points render_partial_view(const SessionSimulatorConfig& scene, const PartialViewConfig& config, Rng& rng);
 
-// The grasps align-pose must cope with: any rotation about the handle, tilt +/-60 deg, roll +/-15 deg,
-// offsets +/-5 cm.
-GraspRange any_grasp_range();
 
 // One accuracy case: a family's default shape with every dimension varied by up to +/-15%, held with a
 // random grasp from `range` and seen in one partial view; the model is the same shape sampled at its
