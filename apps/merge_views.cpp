@@ -3,6 +3,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/progress.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/results_json.hpp"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   return command.run(argc, argv, [&] {
     std::vector<toolinc::PointCloud> views;
     for (const auto& input : inputs) views.push_back(toolinc::load_cloud(input));
+    config.progress = toolinc::Progress("merging views");
     toolinc::MergeResult merged;
     try {
       merged = toolinc::merge_views(views, config);

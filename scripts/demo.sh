@@ -3,7 +3,8 @@
 # sample data:
 #  1. the sample held-tool clouds in data/held/: estimate-frame -> find-tooltip -> evaluate;
 #  2. sample recorded sessions, simulated with known ground truth: simulate-session -> crop-cloud --all
-#     -> merge-views -> estimate-frame -> find-tooltip -> evaluate (scripts/pipeline.mk).
+#     -> merge-views -> estimate-frame -> find-tooltip -> evaluate (scripts/pipeline.mk), then render (the
+#     model, and a contact sheet of the session's views) and report (one HTML page per session).
 # Results go to ${OUT_DIR:-out/demo}.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -52,8 +53,12 @@ done
 for family in hoe hook rake; do
   result=$out/pipeline/$family
   "$bin/render" -q "$result/model.ply" --frame "$result/frame.json" --tooltip "$result/tooltip.json" -o "$result/model.png"
+  "$bin/render" -q --session "$out/sessions/$family" -o "$result/sheet.png"
+  "$bin/report" -q "$result" -o "$result/report.html"
 done
 echo
 echo "Outputs: $out/held/ (frame, tooltip, evaluation per sample cloud); $out/sessions/ (the simulated"
 echo "sessions); $out/pipeline/<session>/ (views/, model.ply, merge_report.json, frame.json, tooltip.json,"
-echo "evaluation.json, and model.png: the model with its frame and tooltip in four views)."
+echo "evaluation.json, model.png: the model with its frame and tooltip in four views, sheet.png: the"
+echo "session's views, and report.html: all of it on one page)."
+echo "Look at the results in a browser: $out/pipeline/{hoe,hook,rake}/report.html"

@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libpcl-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev
   libgtest-dev libbenchmark-dev
+  snakemake
 )
 
 missing=()

@@ -60,4 +60,12 @@ inline void expect_failure_left_nothing(const ToolRun& run, const std::string& w
     EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "temporary file left: " << entry.path();
 }
 
+// A table cell that must be a number and nothing else.
+inline double number(const std::string& cell) {
+  std::size_t used = 0;
+  const double value = std::stod(cell, &used);
+  EXPECT_EQ(used, cell.size()) << cell;
+  return value;
+}
+
 }  // namespace toolinc::testing

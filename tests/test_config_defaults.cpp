@@ -1,4 +1,4 @@
-// configs/icub.json documents every default of align-pose and learn-appearance: running either with
+// configs/icub.json documents every default of align-pose, learn-appearance and record: running each with
 // `-c configs/icub.json` must give the same output as running it without (as FrameCli.ShippedConfigHoldsTheDefaults
 // checks for estimate-frame and find-tooltip).
 #include <gtest/gtest.h>
@@ -103,6 +103,29 @@ TEST(ConfigDefaults, LearnAppearanceShippedConfigHoldsTheDefaults) {
       "learn-appearance",
       "classify --classifier " + (dir / "classifier.json").string() + " --features " + (dir / "rows.txt").string() + " -q");
   EXPECT_EQ(classified, classified_configured);
+}
+
+TEST(ConfigDefaults, RecordShippedConfigHoldsTheDefaults) {
+  // The simulated robot records the same session with and without the config: every file byte for byte,
+  // session.json but for its creation time.
+  const auto dir = scratch_dir("config-defaults-record");
+  const auto plain = run_tool("record", "--backend sim -q -o " + (dir / "plain").string());
+  const auto configured = run_tool("record", "--backend sim -q" + kConfig + " -o " + (dir / "configured").string());
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(configured.exit_code, 0) << configured.err;
+  Json plain_json = read_json((dir / "plain" / "session.json").string());
+  Json configured_json = read_json((dir / "configured" / "session.json").string());
+  plain_json.erase("created");
+  configured_json.erase("created");
+  EXPECT_EQ(plain_json.dump(2), configured_json.dump(2));
+  int files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "plain")) {
+    if (!entry.is_regular_file() || entry.path().filename() == "session.json") continue;
+    const fs::path relative = fs::relative(entry.path(), dir / "plain");
+    EXPECT_EQ(slurp(entry.path()), slurp(dir / "configured" / relative)) << relative;
+    ++files;
+  }
+  EXPECT_EQ(files, 5 * 5);  // five views of view.json, left, disparity, blob and points
 }
 
 }  // namespace

@@ -1,10 +1,12 @@
 // render (issue 7): a generated tool with a frame and tooltip drawn headless; axis colours at the axes'
-// projected ends, the tooltip marker at the tooltip, deterministic bytes, and clean failures on bad input.
+// projected ends, the tooltip marker at the tooltip, deterministic bytes, and clean failures on bad input;
+// a model drawn where a tool_pose places it; a session's contact sheet.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "run_tool.hpp"
@@ -12,7 +14,10 @@
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/io/results_json.hpp"
+#include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/render/contact_sheet.hpp"
 #include "toolinc/render/render.hpp"
+#include "toolinc/session/blob.hpp"
 #include "toolinc/synth/tool_generator.hpp"
 
 using namespace toolinc;
@@ -167,6 +172,10 @@ TEST(Render, SameInputSameBytes) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string a = slurp(dir / "a.png"), b = slurp(dir / "b.png");
   EXPECT_EQ(a, b);
+  // configs/icub.json's "render" section holds the defaults.
+  run = run_tool("render", args + (dir / "c.png").string() + " -c " + TOOLINC_SOURCE_DIR + "/configs/icub.json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(slurp(dir / "c.png"), a);
   const cv::Mat decoded = cv::imread((dir / "a.png").string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(decoded.empty());
   EXPECT_EQ(decoded.cols, 1200);
@@ -207,4 +216,127 @@ TEST(Render, BadInputIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("nothing.ply"), std::string::npos);
   }
+}
+
+namespace {
+
+// A tool_pose file as align-pose writes it (only what render reads: type, version, matrix).
+void write_pose(const fs::path& path, const Eigen::Matrix4d& hand_from_model) {
+  write_json(path.string(), Json{{"type", "tool_pose"}, {"version", 1}, {"frame", "hand"}, {"matrix", to_json(hand_from_model)}});
+}
+
+}  // namespace
+
+TEST(Render, ModelWherePoseHoldsIt) {
+  const auto dir = scratch_dir("render-pose");
+  PointCloud model;
+  model.points = generate_tool(default_shape(ToolFamily::hoe), 2).points;
+  model.frame = "canonical";
+  write_ply((dir / "model.ply").string(), model);
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();
+  pose.topLeftCorner<3, 3>() = (Eigen::AngleAxisd(0.4, Vec3::UnitZ()) * Eigen::AngleAxisd(-0.3, Vec3::UnitX())).toRotationMatrix();
+  pose.topRightCorner<3, 1>() = Vec3(0.03, -0.05, 0.01);
+  write_pose(dir / "pose.json", pose);
+  // The observed view: part of the held tool (its points with positive canonical x, moved by the pose).
+  PointCloud view;
+  for (const auto& p : model.points)
+    if (p.x() > 0) view.points.push_back(pose.topLeftCorner<3, 3>() * p + pose.topRightCorner<3, 1>());
+  write_ply((dir / "view.ply").string(), view);
+
+  const auto run = run_tool("render", (dir / "view.ply").string() + " --pose " + (dir / "pose.json").string() +
+                                          " --model " + (dir / "model.ply").string() + " -q -o " + (dir / "pose.png").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const cv::Mat image = cv::imread((dir / "pose.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+  // The same as the library draws for the view and the model moved by the pose (its second colour).
+  RenderScene scene;
+  scene.clouds.push_back({"view.ply", read_cloud((dir / "view.ply").string()).points});
+  scene.clouds.push_back({"model.ply (posed)", transform_points(read_cloud((dir / "model.ply").string()).points, pose)});
+  EXPECT_EQ(cv::norm(image, render_scene(scene), cv::NORM_INF), 0.0);
+  // And not what it draws for the model unmoved: the pose was applied.
+  scene.clouds[1].points = read_cloud((dir / "model.ply").string()).points;
+  EXPECT_GT(cv::norm(image, render_scene(scene), cv::NORM_INF), 0.0);
+
+  // A pose file of another type, and --pose without --model, are input errors.
+  expect_input_error((dir / "view.ply").string() + " --pose " + (dir / "model.ply").string() + " --model " +
+                         (dir / "model.ply").string(), dir / "bad.png", "model.ply");
+  write_json((dir / "frame.json").string(), tool_frame_json(ToolFrame{}, ToolFrameConfig{}));
+  expect_input_error((dir / "view.ply").string() + " --pose " + (dir / "frame.json").string() + " --model " +
+                         (dir / "model.ply").string(), dir / "bad.png", "frame.json");
+  const auto alone = run_tool("render", (dir / "view.ply").string() + " --pose " + (dir / "pose.json").string() +
+                                            " -o " + (dir / "alone.png").string());
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_NE(alone.err.find("--model"), std::string::npos) << alone.err;
+  EXPECT_FALSE(fs::exists(dir / "alone.png"));
+}
+
+TEST(Render, ContactSheetOfASimulatedSession) {
+  const auto dir = scratch_dir("render-sheet");
+  const fs::path session = dir / "session", sheet = dir / "sheet.png";
+  ASSERT_EQ(run_tool("simulate-session", "-q --family rake --seed 4 -o " + session.string()).exit_code, 0);
+  const auto run = run_tool("render", "-q --session " + session.string() + " -o " + sheet.string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const cv::Mat image = cv::imread(sheet.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+
+  const SessionInfo info = read_session(session.string());
+  const ContactSheetLayout layout = contact_sheet_layout(info.camera);
+  ASSERT_EQ(info.views.size(), 5u);
+  EXPECT_EQ(image.cols, layout.x(3));
+  EXPECT_EQ(image.rows, layout.y(5) - layout.caption);
+  EXPECT_EQ(layout.panel_width, 320);  // 1:1 at the iCub's 320 x 240
+  EXPECT_EQ(layout.panel_height, 240);
+  const auto count = [](const cv::Mat& panel, const cv::Scalar& colour) {
+    cv::Mat hits;
+    cv::inRange(panel, colour, colour, hits);
+    return cv::countNonZero(hits);
+  };
+  for (int v = 0; v < 5; ++v) {
+    SCOPED_TRACE("view " + std::to_string(v));
+    const auto panel = [&](int p) { return image(cv::Rect(layout.x(p), layout.y(v), layout.panel_width, layout.panel_height)); };
+    const ViewData view = read_view(session.string(), info, v);
+    const cv::Mat left = panel(0), disparity = panel(1), crop = panel(2);
+    // The blob's outline lies on the mask's border, its box around it.
+    EXPECT_GT(count(left, kSheetBlobOutline), 50);
+    EXPECT_GT(count(left, kSheetBlobBox), 50);
+    // The disparity in colour: valid pixels are not grey.
+    cv::Mat channels[3];
+    cv::split(disparity, channels);
+    EXPECT_GT(cv::countNonZero(channels[0] != channels[2]), 1000);
+    // Every cropped point projects back onto the blob (crop-cloud keeps only its pixels): no point-coloured
+    // pixel farther than a pixel from the mask.
+    const int points = count(crop, kSheetCropPoint);
+    EXPECT_GT(points, 300);
+    cv::Mat near_mask, hits;
+    cv::dilate(view.blob, near_mask, cv::Mat::ones(3, 3, CV_8U));
+    cv::inRange(crop, kSheetCropPoint, kSheetCropPoint, hits);
+    EXPECT_EQ(cv::countNonZero(hits & ~near_mask), 0);
+  }
+  // The same session, the same bytes.
+  ASSERT_EQ(run_tool("render", "-q --session " + session.string() + " -o " + (dir / "again.png").string()).exit_code, 0);
+  EXPECT_EQ(slurp(sheet), slurp(dir / "again.png"));
+
+  // configs/icub.json's "render" section holds the defaults.
+  const std::string config = " -c " + std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json";
+  ASSERT_EQ(run_tool("render", "-q --session " + session.string() + config + " -o " + (dir / "c.png").string()).exit_code, 0);
+  EXPECT_EQ(slurp(sheet), slurp(dir / "c.png"));
+
+  // A view whose crop fails says so on the sheet; the others are still drawn.
+  cv::imwrite((session / "views/001/blob.png").string(), cv::Mat::zeros(240, 320, CV_8UC1));
+  ASSERT_EQ(run_tool("render", "-q --session " + session.string() + " -o " + sheet.string()).exit_code, 0);
+  const cv::Mat spoiled = cv::imread(sheet.string(), cv::IMREAD_COLOR);
+  const auto crop_panel = [&](int v) { return spoiled(cv::Rect(layout.x(2), layout.y(v), layout.panel_width, layout.panel_height)); };
+  EXPECT_EQ(count(crop_panel(1), kSheetCropPoint), 0);
+  EXPECT_GT(count(crop_panel(1), cv::Scalar(0, 0, 200)), 100);  // the failure's red band
+  EXPECT_GT(count(crop_panel(2), kSheetCropPoint), 300);
+
+  // A session that is not one names its session.json; --session with clouds is a usage error.
+  fs::create_directories(dir / "empty");
+  const auto missing = run_tool("render", "--session " + (dir / "empty").string() + " -o " + (dir / "x.png").string());
+  EXPECT_EQ(missing.exit_code, 2);
+  expect_failure_left_nothing(missing, "session.json", dir / "x.png", dir);
+  const auto both = run_tool("render", "--session " + session.string() + " " + (session / "x.ply").string() + " -o " +
+                                           (dir / "y.png").string());
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir / "y.png"));
 }

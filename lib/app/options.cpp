@@ -30,7 +30,10 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--symmetry-tie-margin", c.symmetry_tie_margin, "Planes scoring within this of the best are equally symmetric")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
-  cli.add_option("--unseen-score", c.unseen_score, "Symmetry score of a mirror image no viewpoint could have seen")
+  cli.add_option("--unseen-score", c.unseen_score, "Symmetry refinement: score of a mirror image no viewpoint could have seen")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--symmetry-match-weight", c.symmetry_match_weight,
+                 "Symmetry sweep: weight of a matched mirror image's distance")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--salience-ratio", c.salience_ratio, "Reach ratio that makes an effector side salient")
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));

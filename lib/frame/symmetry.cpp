@@ -6,8 +6,13 @@
 namespace toolinc {
 
 SymmetryScorer::SymmetryScorer(const Points& points, std::size_t samples, double tolerance,
-                               const FreeSpace* free_space, double unseen_score)
-    : points_(points), tree_(points), tolerance_(tolerance), free_space_(free_space), unseen_score_(unseen_score) {
+                               const FreeSpace* free_space, double unseen_score, double match_weight)
+    : points_(points),
+      tree_(points),
+      tolerance_(tolerance),
+      free_space_(free_space),
+      unseen_score_(unseen_score),
+      match_weight_(match_weight) {
   const std::size_t n = points.size();
   const std::size_t count = std::min(n, std::max<std::size_t>(samples, 1));
   samples_.reserve(count);
@@ -22,7 +27,7 @@ double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) con
     const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
     const auto nearest = tree_.nearest(mirrored, tolerance_);
     if (nearest.index != KdTree::npos)
-      sum += std::sqrt(nearest.distance2) / tolerance_;
+      sum += match_weight_ * std::sqrt(nearest.distance2) / tolerance_;
     else
       sum += free_space_ == nullptr || free_space_->seen(mirrored) ? 1.0 : unseen_score_;
   }

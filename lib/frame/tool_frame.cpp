@@ -194,15 +194,17 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const Vec3 v = y_axis.cross(u);
   const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
   const FreeSpace free_space(cloud, viewpoints);
-  const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                              config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space,
-                              config.unseen_score);
+  // The sweep chooses among planes by contradiction: a mirror image landing where a sensor saw empty
+  // space. A never-seen image is no evidence, and a matched image's distance is mostly sampling.
+  const SymmetryScorer choosing(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
+                                config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space, 0.0,
+                                config.symmetry_match_weight);
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
   // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
   const Vec3& centre = handle.point;
   const double step = config.symmetry_step_deg * kDeg;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
-    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), scorer.score(normal_at(angle), centre)});
+    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), choosing.score(normal_at(angle), centre)});
   // Tools like a T or a flat top have two mirror planes through the handle. Among the sweep's local
   // minima that score as well as the best (within the tie margin), the symmetry plane is the one
   // across which the effector reaches farthest, since the effector axis is the head's forward extent.
@@ -222,18 +224,23 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
       best_angle = sweep[i].angle_deg * kDeg;
     }
   }
+  // The chosen plane is refined on a smooth distance score, where unseen mirror images count half so
+  // that the plane does not drift towards the never-seen side.
+  const SymmetryScorer refining(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
+                                config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space,
+                                config.unseen_score);
   double offset = 0.0;
   for (int round = 0; round < 2; ++round) {
-    best_angle = golden_minimum([&](double a) { return scorer.score(normal_at(a), centre + offset * normal_at(a)); },
+    best_angle = golden_minimum([&](double a) { return refining.score(normal_at(a), centre + offset * normal_at(a)); },
                                 best_angle - step, best_angle + step, 12);
     const Vec3 normal = normal_at(best_angle);
-    offset = golden_minimum([&](double d) { return scorer.score(normal, centre + d * normal); },
+    offset = golden_minimum([&](double d) { return refining.score(normal, centre + d * normal); },
                             -config.symmetry_tolerance, config.symmetry_tolerance, 12);
   }
   const Vec3 z_normal = normal_at(best_angle);
-  frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
+  frame.symmetry_score = refining.score(z_normal, centre + offset * z_normal);
   frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
-  frame.across_handle_score = scorer.score(y_axis, principal.centroid);
+  frame.across_handle_score = refining.score(y_axis, principal.centroid);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();

@@ -20,12 +20,17 @@ MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig&
   Points accumulated = views[0].points;
   result.views.push_back({true, "reference", Eigen::Matrix4d::Identity(), {0, 0, 0}, 0.0, 1.0, 0.0, 0,
                           static_cast<int>(views[0].points.size())});
+  const auto report_progress = [&] {
+    if (config.progress) config.progress(result.views.size(), views.size());
+  };
+  report_progress();
   for (std::size_t v = 1; v < views.size(); ++v) {
     ViewMerge merge;
     merge.points = static_cast<int>(views[v].points.size());
     if (merge.points < config.min_points) {
       merge.reason = fmt::format("too few points ({} < {})", merge.points, config.min_points);
       result.views.push_back(merge);
+      report_progress();
       continue;
     }
     const IcpTarget target(voxel_downsample(accumulated, config.voxel_size));
@@ -52,6 +57,7 @@ MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig&
       accumulated.insert(accumulated.end(), aligned.begin(), aligned.end());
     }
     result.views.push_back(merge);
+    report_progress();
   }
   // The reference view carries its own kinematic error; the views' errors are independent and zero-mean,
   // so the mean of the accepted views' frames is a better estimate of the hand frame than any one of them.

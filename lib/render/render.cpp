@@ -9,6 +9,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/rigid.hpp"
+#include "toolinc/io/json_file.hpp"
 
 namespace toolinc {
 namespace {
@@ -29,6 +31,7 @@ const cv::Scalar kFaint{150, 150, 150};
 const cv::Scalar kBorder{210, 210, 210};
 
 constexpr int kTitleMargin = 28, kBottomMargin = 38, kSideMargin = 18;
+constexpr int kMarkerPad = 12;  // markers and labels at the scene's edge stay clear of the title
 
 // One view: rows are right, up and towards the viewer (a right-handed rotation).
 struct View {
@@ -113,14 +116,14 @@ Layout make_layout(const RenderScene& scene, const RenderOptions& options) {
     hi = hi.cwiseMax(p);
   }
   const Vec3 centre = 0.5 * (lo + hi);
-  const double half_w = pw / 2.0 - kSideMargin, half_h = (ph - kTitleMargin - kBottomMargin) / 2.0;
+  const double half_w = pw / 2.0 - kSideMargin, half_h = (ph - kTitleMargin - kBottomMargin) / 2.0 - kMarkerPad;
   double scale = std::numeric_limits<double>::infinity();
   const auto all_views = views();
   for (int i = 0; i < kRenderPanelCount; ++i) {
     PanelLayout& panel = layout.panels[i];
     panel.view = all_views[i];
     panel.rect = cv::Rect(corners[i].x, corners[i].y, pw, ph);
-    panel.centre = cv::Point2d(pw / 2.0, kTitleMargin + half_h);
+    panel.centre = cv::Point2d(pw / 2.0, kTitleMargin + kMarkerPad + half_h);
     panel.scene_centre = panel.view.rows * centre;
     double du = 1e-3, dv = 1e-3;  // at least 1 mm, so a single point still gets a finite scale
     for (const auto& p : extent) {
@@ -366,6 +369,14 @@ std::vector<unsigned char> encode_png(const cv::Mat& image) {
   std::vector<unsigned char> bytes;
   if (!cv::imencode(".png", image, bytes)) throw std::runtime_error("cannot encode the image as PNG");
   return bytes;
+}
+
+Eigen::Matrix4d read_tool_pose(const std::string& path) {
+  const Json json = read_json(path);
+  check_type(json, "tool_pose", 1, path);
+  const Eigen::Matrix4d hand_from_model = matrix4_field(json, "matrix", path);
+  if (!is_rigid(hand_from_model, 1e-4)) throw InputError(path, "matrix: not a rigid transform");
+  return hand_from_model;
 }
 
 }  // namespace toolinc

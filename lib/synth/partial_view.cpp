@@ -18,9 +18,7 @@ Points render_partial_view(const SessionSimulatorConfig& scene, const PartialVie
   const Pose camera_from_canonical = inverse(root_from_camera) * root_from_hand * scene.hand_from_canonical;
 
   const CameraModel& camera = scene.camera;
-  Render render(camera.width, camera.height);
-  render_ray_cast(scene, hand_box(scene), root_from_camera, inverse(root_from_hand) * root_from_camera, render);
-  render_tool(model, camera, camera_from_canonical, render);
+  const Render render = render_scene(scene, model, hand_box(scene), root_from_hand, root_from_camera);
 
   // A sample is seen when its own splat is the front one at the pixel it projects to.
   Points seen;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "toolinc/ann/kdtree.hpp"
 
@@ -16,6 +17,7 @@ using Rotation = Eigen::Matrix3d;
 // reach each pixel); silhouettes grow by up to a pixel.
 constexpr double kMinSplatRadius = 1.0;
 constexpr double kGripLength = 0.05;       // m of the handle the fingers close around
+constexpr int kBlobMargin = 20;            // dispBlobber's ROI margin, px
 
 Colour bgr(float r, float g, float b) { return {b, g, r}; }
 
@@ -157,6 +159,53 @@ void render_tool(const RenderModel& model, const CameraModel& camera, const Pose
     for (int pv = v0; pv <= v1; ++pv)
       for (int pu = u0; pu <= u1; ++pu) render.offer(pu, pv, q.z(), Surface::tool, c);
   }
+}
+
+Render render_scene(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
+                    const Pose& root_from_hand, const Pose& root_from_camera) {
+  Render render(config.camera.width, config.camera.height);
+  render_ray_cast(config, hand, root_from_camera, inverse(root_from_hand) * root_from_camera, render);
+  render_tool(model, config.camera, inverse(root_from_camera) * root_from_hand * config.hand_from_canonical, render);
+  return render;
+}
+
+ViewData observe(const Render& render, const SessionSimulatorConfig& config, const Pose& root_from_camera, Rng& rng,
+                 std::optional<BlobInfo>& blob) {
+  const CameraModel& camera = config.camera;
+  const double fb = camera.fx * camera.baseline;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  ViewData data;
+  data.disparity = cv::Mat::zeros(render.height, render.width, CV_8UC1);
+  data.left = cv::Mat(render.height, render.width, CV_8UC3);
+  cv::Mat mask = cv::Mat::zeros(render.height, render.width, CV_8UC1);
+  Points points(render.depth.size(), Vec3::Constant(nan));
+  for (int v = 0; v < render.height; ++v)
+    for (int u = 0; u < render.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * render.width + u;
+      if (render.surface[i] == Surface::nothing) continue;
+      const double d = fb / render.depth[i] + config.disparity_noise_px * rng.gaussian();
+      if (render.surface[i] == Surface::hand || render.surface[i] == Surface::tool) mask.at<uchar>(v, u) = 255;
+      if (d <= 0 || d > camera.num_disparities) continue;  // beyond the search range: no match
+      data.disparity.at<uchar>(v, u) = static_cast<uchar>(std::clamp<long>(std::lround(d * 255.0 / camera.num_disparities), 1, 255));
+      points[i] = apply(root_from_camera, (fb / d) * pixel_ray(camera, u, v));
+    }
+  for (int v = 0; v < render.height; ++v)
+    for (int u = 0; u < render.width; ++u) {
+      const Colour& c = render.colour[static_cast<std::size_t>(v) * render.width + u];
+      auto& pixel = data.left.at<cv::Vec3b>(v, u);
+      for (int k = 0; k < 3; ++k) pixel[k] = cv::saturate_cast<uchar>(c[k] + config.pixel_noise * rng.gaussian());
+    }
+  if (config.write_points) data.points = std::move(points);
+  const cv::Moments m = cv::moments(mask, true);
+  if (config.write_blob && m.m00 > 0) {
+    const cv::Rect box = cv::boundingRect(mask);
+    blob = BlobInfo{m.m10 / m.m00, m.m01 / m.m00, m.m00,
+                    {std::max(0, box.x - kBlobMargin), std::max(0, box.y - kBlobMargin),
+                     std::min(render.width - 1, box.br().x - 1 + kBlobMargin),
+                     std::min(render.height - 1, box.br().y - 1 + kBlobMargin)}};
+    data.blob = mask;
+  }
+  return data;
 }
 
 Pose fixate_tool(const SessionSimulatorConfig& config, const RenderModel& model, const Pose& root_from_canonical) {

@@ -22,7 +22,6 @@ namespace {
 using namespace scene;
 
 constexpr double kDeg = M_PI / 180.0;
-constexpr int kBlobMargin = 20;            // dispBlobber's ROI margin, px
 
 using Rotation = Eigen::Matrix3d;
 
@@ -48,47 +47,6 @@ Pose gross_error(const GrossError& gross, Rng& rng) {
   const Vec3 direction = random_unit(rng);
   return rigid(about(random_unit(rng), gross.rotation_deg), gross.translation * direction);
 }
-
-// What the stereo module and the blob detector make of a rendered view.
-ViewData observe(const Render& render, const SessionSimulatorConfig& config, const Pose& root_from_camera, Rng& rng,
-                 std::optional<BlobInfo>& blob) {
-  const CameraModel& camera = config.camera;
-  const double fb = camera.fx * camera.baseline;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  ViewData data;
-  data.disparity = cv::Mat::zeros(render.height, render.width, CV_8UC1);
-  data.left = cv::Mat(render.height, render.width, CV_8UC3);
-  cv::Mat mask = cv::Mat::zeros(render.height, render.width, CV_8UC1);
-  Points points(render.depth.size(), Vec3::Constant(nan));
-  for (int v = 0; v < render.height; ++v)
-    for (int u = 0; u < render.width; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * render.width + u;
-      if (render.surface[i] == Surface::nothing) continue;
-      const double d = fb / render.depth[i] + config.disparity_noise_px * rng.gaussian();
-      if (render.surface[i] == Surface::hand || render.surface[i] == Surface::tool) mask.at<uchar>(v, u) = 255;
-      if (d <= 0 || d > camera.num_disparities) continue;  // beyond the search range: no match
-      data.disparity.at<uchar>(v, u) = static_cast<uchar>(std::clamp<long>(std::lround(d * 255.0 / camera.num_disparities), 1, 255));
-      points[i] = apply(root_from_camera, (fb / d) * pixel_ray(camera, u, v));
-    }
-  for (int v = 0; v < render.height; ++v)
-    for (int u = 0; u < render.width; ++u) {
-      const Colour& c = render.colour[static_cast<std::size_t>(v) * render.width + u];
-      auto& pixel = data.left.at<cv::Vec3b>(v, u);
-      for (int k = 0; k < 3; ++k) pixel[k] = cv::saturate_cast<uchar>(c[k] + config.pixel_noise * rng.gaussian());
-    }
-  if (config.write_points) data.points = std::move(points);
-  const cv::Moments m = cv::moments(mask, true);
-  if (config.write_blob && m.m00 > 0) {
-    const cv::Rect box = cv::boundingRect(mask);
-    blob = BlobInfo{m.m10 / m.m00, m.m01 / m.m00, m.m00,
-                    {std::max(0, box.x - kBlobMargin), std::max(0, box.y - kBlobMargin),
-                     std::min(render.width - 1, box.br().x - 1 + kBlobMargin),
-                     std::min(render.height - 1, box.br().y - 1 + kBlobMargin)}};
-    data.blob = mask;
-  }
-  return data;
-}
-
 
 void check(const SessionSimulatorConfig& config) {
   if (config.hand != "left" && config.hand != "right")
@@ -125,18 +83,6 @@ Json ground_truth(const SessionSimulatorConfig& config, const RenderModel& model
 
 CameraModel icub_camera() { return {320, 240, 257.3, 257.3, 160.0, 120.0, 96, 0.068}; }
 
-std::vector<Eigen::Vector2d> paper_exploration_poses() { return {{0, 0}, {-40, -20}, {30, -20}, {0, -20}, {0, 30}}; }
-
-Pose exploration_hand_pose(const std::string& hand, const Eigen::Vector2d& wrist_deg) {
-  const double sign = hand == "left" ? -1.0 : 1.0;
-  Rotation base;  // columns: hand x = -root x, hand y = -root z, hand z = -root y (det +1)
-  base.col(0) = Vec3(-1, 0, 0);
-  base.col(1) = Vec3(0, 0, -1);
-  base.col(2) = Vec3(0, -1, 0);
-  const Rotation r = base * about(Vec3::UnitX(), sign * wrist_deg.x()) * about(Vec3::UnitY(), sign * wrist_deg.y());
-  return rigid(r, Vec3(-0.25, sign * 0.15, 0.10));
-}
-
 Pose camera_looking_at(const Vec3& eye, const Vec3& target) {
   Rotation r;
   r.col(2) = (target - eye).normalized();
@@ -168,7 +114,6 @@ SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
   for (std::size_t i = 0; i < config.poses.size(); ++i) {
     const Pose root_from_hand = exploration_hand_pose(config.hand, config.poses[i]);
     const Pose root_from_camera = fixate_tool(config, model, root_from_hand * config.hand_from_canonical);
-    const Pose camera_from_root = inverse(root_from_camera);
 
     ViewRecord record;
     record.dir = fmt::format("views/{:03d}", i);
@@ -180,9 +125,7 @@ SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
     const double stamp = 2.0 * static_cast<double>(i);  // s: a move and the 1 s wait per pose
     record.stamps = {{"hand", stamp}, {"left", stamp}, {"disparity", stamp}};
 
-    Render render(config.camera.width, config.camera.height);
-    render_ray_cast(config, hand_model, root_from_camera, inverse(root_from_hand) * root_from_camera, render);
-    render_tool(model, config.camera, camera_from_root * root_from_hand * config.hand_from_canonical, render);
+    const Render render = render_scene(config, model, hand_model, root_from_hand, root_from_camera);
     session.views.push_back(observe(render, config, root_from_camera, rng, record.blob));
     info.views.push_back(std::move(record));
     session.true_root_from_hand.push_back(root_from_hand);

@@ -16,12 +16,14 @@ class SymmetryScorer {
   // points: the resampled cloud; the scorer mirrors an evenly spaced subset of at most `samples`
   // points. tolerance: mirrored points this far or farther from the cloud count as fully asymmetric.
   // free_space (optional, must outlive the scorer): mirror images that no sensor could have seen count
-  // as `unseen_score` instead of as fully asymmetric.
+  // as `unseen_score` instead of as fully asymmetric. match_weight scales the distance of the mirror
+  // images that land on the cloud (their distance is mostly the sampling's, weak evidence).
   SymmetryScorer(const Points& points, std::size_t samples, double tolerance, const FreeSpace* free_space = nullptr,
-                 double unseen_score = 0.5);
+                 double unseen_score = 0.5, double match_weight = 1.0);
 
-  // Mean truncated distance of the mirror images to the cloud, divided by the tolerance: 0 for a
-  // perfect mirror, 1 when nothing matches.
+  // Mean over the mirror images of: match_weight x distance to the cloud / tolerance when within the
+  // tolerance, else 1 (or unseen_score where no sensor could have seen it). 0 for a perfect mirror, 1
+  // when nothing matches.
   double score(const Vec3& normal, const Vec3& point_on_plane) const;
 
  private:
@@ -31,6 +33,7 @@ class SymmetryScorer {
   double tolerance_;
   const FreeSpace* free_space_;
   double unseen_score_;
+  double match_weight_;
 };
 
 }  // namespace toolinc

@@ -31,9 +31,13 @@ struct ToolFrameConfig {
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
-  double unseen_score = 0.5;        // a mirror image no viewpoint could have seen: no evidence either way
+  double symmetry_match_weight = 0.25; // sweep: weight of a matched mirror image's distance (with 4 mm
+                                    //    voxels even a perfect plane's images land 1-3 mm off); the
+                                    //    strong evidence is an image where a sensor saw empty space
+  double unseen_score = 0.5;        // refinement: score of a mirror image no viewpoint could have seen
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
-                                    //    (measured: mirror planes 0.19-0.24, others >= 0.33)
+                                    //    (measured on session models: mirror planes 0.04-0.09,
+                                    //    others mostly >= 0.13)
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
   double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
   double salience_min = 0.01;       // ... this ratio and this many metres

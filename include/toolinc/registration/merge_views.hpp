@@ -3,6 +3,8 @@
 // a view whose correction is implausible is rejected, with the reason, never silently.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,9 @@ struct MergeConfig {
   int min_points = 300;              // a view with fewer points is rejected (the original's floor)
   double clean_radius = 0.01;        // m: stray points with fewer than clean_min_neighbors within
   int clean_min_neighbors = 20;      //    clean_radius are removed at the end (the original's values)
+  // Called after each view with (views done, views in all); none by default. A merge of many views takes
+  // minutes, so the executable shows this on a terminal (toolinc/app/progress.hpp).
+  std::function<void(std::size_t done, std::size_t total)> progress;
 };
 
 struct ViewMerge {

@@ -7,9 +7,12 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "toolinc/core/point_cloud.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/session/session.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
 namespace toolinc::scene {
@@ -70,6 +73,18 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
 // The tool by splatting its samples, each over the pixels within its footprint.
 void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
                  Render& render);
+
+// The whole scene: table, wall and hand by ray casting, then the tool held with config.hand_from_canonical.
+Render render_scene(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
+                    const Pose& root_from_hand, const Pose& root_from_camera);
+
+// What the stereo module and the blob detector make of a render: the left image with pixel noise, the 8-bit
+// disparity (noisy, quantised), the organised root-frame points triangulated from the un-quantised
+// disparity (when config.write_points) and the hand-and-tool blob mask with its dispBlobber record (when
+// config.write_blob and the blob is in view). Shared by the session simulator and the recorder's
+// simulated backend.
+ViewData observe(const Render& render, const SessionSimulatorConfig& config, const Pose& root_from_camera, Rng& rng,
+                 std::optional<BlobInfo>& blob);
 
 // The gaze: like lookAtTool, which refines the fixation from the image, the eye looks at the tool's
 // bounding-box centre and then twice re-aims at the centre of the tool's extent in the image, so the

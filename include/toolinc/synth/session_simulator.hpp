@@ -13,6 +13,7 @@
 
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/record/exploration.hpp"
 #include "toolinc/session/session.hpp"
 #include "toolinc/synth/tool_generator.hpp"
 
@@ -20,9 +21,6 @@ namespace toolinc {
 
 // An iCub eye at 320x240: fx = fy = 257.3 px, principal point at the centre, 6.8 cm baseline, 96 disparities.
 CameraModel icub_camera();
-
-// The original's exploration poses, (wrist X, wrist Y) in degrees: (0,0), (-40,-20), (30,-20), (0,-20), (0,30).
-std::vector<Eigen::Vector2d> paper_exploration_poses();
 
 // A grossly wrong recorded hand pose for one view: a translation of `translation` metres along a random
 // direction and a rotation of `rotation_deg` about a random axis, both drawn from the session's seed.
@@ -78,10 +76,6 @@ struct SimulatedSession {
   std::vector<Eigen::Matrix4d> true_root_from_hand;  // per view, without the kinematic and gross errors
   Json ground_truth;                                 // also holds true_root_from_hand
 };
-
-// turnHand's target: hand at (-0.25, +-0.15, 0.10) in the root frame, rotation Rh * Rx(X) * Ry(Y) with the
-// tool (hand -Y) pointing up; the rotations' signs are negated for the left hand, as in the original.
-Eigen::Matrix4d exploration_hand_pose(const std::string& hand, const Eigen::Vector2d& wrist_deg);
 
 // root_from_camera of an eye at `eye` looking at `target`: optical z towards it, x to the image's right
 // (horizontal in the root frame), y down.

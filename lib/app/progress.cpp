@@ -1,0 +1,23 @@
+#include "toolinc/app/progress.hpp"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+namespace toolinc {
+
+Progress::Progress(std::string label, std::FILE* stream)
+    : label_(std::move(label)),
+      stream_(stream),
+      enabled_(::isatty(::fileno(stream)) == 1 && spdlog::should_log(spdlog::level::info)) {}
+
+void Progress::operator()(std::size_t done, std::size_t total) const {
+  if (!enabled_ || total == 0) return;
+  // \r returns to the start of the line, \033[K erases what a longer previous line left.
+  if (done >= total)
+    std::fprintf(stream_, "\r\033[K");
+  else
+    std::fprintf(stream_, "\r%s: %zu/%zu (%.0f%%)\033[K", label_.c_str(), done, total, 100.0 * done / total);
+  std::fflush(stream_);
+}
+
+}  // namespace toolinc
