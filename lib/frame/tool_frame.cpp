@@ -239,7 +239,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   }
   const Vec3 z_normal = normal_at(best_angle);
   frame.symmetry_score = refining.score(z_normal, centre + offset * z_normal);
-  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
+  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, choosing.score(z_normal, centre + offset * z_normal)});
   frame.across_handle_score = refining.score(y_axis, principal.centroid);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.

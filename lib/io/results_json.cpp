@@ -35,6 +35,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"symmetry",
          {{"score", frame.symmetry_score},
           {"score_meaning", "mean truncated mirror distance / tolerance: 0 perfect mirror, 1 none"},
+          {"candidates_meaning", "the sweep scored by contradiction (unseen mirror images count 0, matched "
+                                 "distances weighted by symmetry-match-weight), then the refined plane"},
           {"across_handle_score", frame.across_handle_score},
           {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
           {"candidates", candidates}}},

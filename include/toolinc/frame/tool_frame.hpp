@@ -46,7 +46,7 @@ struct ToolFrameConfig {
 struct SymmetryCandidate {
   double angle_deg;   // about the handle axis, from the middle principal axis
   Vec3 normal;
-  double score;       // SymmetryScorer::score: 0 perfect mirror, 1 none
+  double score;       // the sweep's score (by contradiction): 0 perfect mirror, 1 none
 };
 
 struct ToolFrame {
@@ -64,7 +64,7 @@ struct ToolFrame {
   double handle_rms = 0.0;                // m, RMS radial residual of the handle points
   bool handle_cylinder = true;            // false when the handle points are not a cylinder surface
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
-  double symmetry_score = 1.0;
+  double symmetry_score = 1.0;           // the refined plane's distance score
   double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
   std::string handle_sign_rule;
   std::string effector_sign_rule;
