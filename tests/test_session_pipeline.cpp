@@ -85,9 +85,9 @@ TEST(SessionPipeline, BlobDetectionWithoutAMask) {
 TEST(SessionPipeline, EveryFamilyManySessions) {
   // Measured on 8 families x 10 grasps: the merged model and the tooltip from the whole pipeline. The
   // merge floors are the issue's; the tooltip floor is a regression floor below the 95 % (not
-  // met: 80 % here, 85 % on seeds 300-309). The exploration never sees the tool's far side; where a
-  // heavy head hides most of the handle the handle fit goes off, and a few degrees of symmetry plane
-  // about the handle move a tip 10 cm out by about a centimetre.
+  // met: 87.5 % here, 86-87.5 % on seeds 300-309 and 500-509). The exploration never sees the tool's far
+  // side; where a heavy head hides most of the handle the handle fit goes off, and a few degrees of
+  // symmetry plane about the handle move a tip 10 cm out by about a centimetre.
   int sessions = 0, tips_within_10mm = 0;
   std::vector<double> model_errors;
   for (ToolFamily family : all_families()) {
@@ -115,7 +115,7 @@ TEST(SessionPipeline, EveryFamilyManySessions) {
   std::printf("merged model: median %.2f mm, worst %.2f mm; tooltip within 10 mm in %d of %d sessions\n",
               1000 * model_errors[model_errors.size() / 2], 1000 * model_errors.back(), tips_within_10mm, sessions);
   EXPECT_LT(model_errors[model_errors.size() / 2], 0.003);
-  EXPECT_GE(tips_within_10mm, static_cast<int>(0.75 * sessions));
+  EXPECT_GE(tips_within_10mm, static_cast<int>(0.85 * sessions));
 }
 
 TEST(SessionPipeline, GrossErrorsRejectedRestMerged) {

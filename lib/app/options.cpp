@@ -32,6 +32,9 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--unseen-score", c.unseen_score, "Symmetry refinement: score of a mirror image no viewpoint could have seen")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--symmetry-normal-neighbors", c.symmetry_normal_neighbors,
+                 "Neighbours of the normals a mirror image's distance is measured along")
+      ->capture_default_str()->group(group)->check(CLI::Range(3, 100));
   cli.add_option("--symmetry-match-weight", c.symmetry_match_weight,
                  "Symmetry sweep: weight of a matched mirror image's distance")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));

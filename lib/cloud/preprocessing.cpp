@@ -75,11 +75,22 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
 Points estimate_normals(const Points& points, int k) {
   const KdTree tree(points);
   Points normals(points.size(), Vec3::UnitZ());
-  Points neighborhood;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    neighborhood.clear();
-    for (const auto& n : tree.knn(points[i], k)) neighborhood.push_back(points[n.index]);
-    if (neighborhood.size() >= 3) normals[i] = principal_axes(neighborhood).axes.col(2);
+    const auto neighbours = tree.knn(points[i], k);
+    if (neighbours.size() < 3) continue;
+    Vec3 mean = Vec3::Zero();
+    for (const auto& n : neighbours) mean += points[n.index];
+    mean /= static_cast<double>(neighbours.size());
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const auto& n : neighbours) {
+      const Vec3 d = points[n.index] - mean;
+      covariance.noalias() += d * d.transpose();
+    }
+    // The closed-form 3x3 solver: several times faster than the iterative one, and accurate enough
+    // for the smallest eigenvector of a neighbourhood's spread.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(covariance);
+    normals[i] = solver.eigenvectors().col(0);
   }
   return normals;
 }

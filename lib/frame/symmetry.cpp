@@ -6,13 +6,15 @@
 namespace toolinc {
 
 SymmetryScorer::SymmetryScorer(const Points& points, std::size_t samples, double tolerance,
-                               const FreeSpace* free_space, double unseen_score, double match_weight)
+                               const FreeSpace* free_space, double unseen_score, double match_weight,
+                               const Points* normals)
     : points_(points),
       tree_(points),
       tolerance_(tolerance),
       free_space_(free_space),
       unseen_score_(unseen_score),
-      match_weight_(match_weight) {
+      match_weight_(match_weight),
+      normals_(normals) {
   const std::size_t n = points.size();
   const std::size_t count = std::min(n, std::max<std::size_t>(samples, 1));
   samples_.reserve(count);
@@ -27,7 +29,10 @@ double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) con
     const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
     const auto nearest = tree_.nearest(mirrored, tolerance_);
     if (nearest.index != KdTree::npos)
-      sum += match_weight_ * std::sqrt(nearest.distance2) / tolerance_;
+      sum += match_weight_ *
+             (normals_ ? std::abs((*normals_)[nearest.index].dot(mirrored - points_[nearest.index]))
+                       : std::sqrt(nearest.distance2)) /
+             tolerance_;
     else
       sum += free_space_ == nullptr || free_space_->seen(mirrored) ? 1.0 : unseen_score_;
   }

@@ -196,9 +196,10 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const FreeSpace free_space(cloud, viewpoints);
   // The sweep chooses among planes by contradiction: a mirror image landing where a sensor saw empty
   // space. A never-seen image is no evidence, and a matched image's distance is mostly sampling.
+  const Points normals = estimate_normals(cloud, config.symmetry_normal_neighbors);
   const SymmetryScorer choosing(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                                 config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space, 0.0,
-                                config.symmetry_match_weight);
+                                config.symmetry_match_weight, &normals);
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
   // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
   const Vec3& centre = handle.point;
@@ -224,20 +225,17 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
       best_angle = sweep[i].angle_deg * kDeg;
     }
   }
-  // The chosen plane is refined on a smooth distance score, where unseen mirror images count half so
+  // The chosen plane is refined on the plain distance score, where unseen mirror images count half so
   // that the plane does not drift towards the never-seen side.
   const SymmetryScorer refining(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                                 config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space,
-                                config.unseen_score);
-  double offset = 0.0;
-  for (int round = 0; round < 2; ++round) {
-    best_angle = golden_minimum([&](double a) { return refining.score(normal_at(a), centre + offset * normal_at(a)); },
-                                best_angle - step, best_angle + step, 12);
-    const Vec3 normal = normal_at(best_angle);
-    offset = golden_minimum([&](double d) { return refining.score(normal, centre + d * normal); },
-                            -config.symmetry_tolerance, config.symmetry_tolerance, 12);
-  }
+                                config.unseen_score, 1.0, &normals);
+  // The angle first (about the handle's axis line), then the plane's offset from it.
+  best_angle = golden_minimum([&](double a) { return refining.score(normal_at(a), centre); }, best_angle - step,
+                              best_angle + step, 8);
   const Vec3 z_normal = normal_at(best_angle);
+  const double offset = golden_minimum([&](double d) { return refining.score(z_normal, centre + d * z_normal); },
+                                       -config.symmetry_tolerance, config.symmetry_tolerance, 8);
   frame.symmetry_score = refining.score(z_normal, centre + offset * z_normal);
   frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, choosing.score(z_normal, centre + offset * z_normal)});
   frame.across_handle_score = refining.score(y_axis, principal.centroid);

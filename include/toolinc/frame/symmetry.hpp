@@ -17,9 +17,11 @@ class SymmetryScorer {
   // points. tolerance: mirrored points this far or farther from the cloud count as fully asymmetric.
   // free_space (optional, must outlive the scorer): mirror images that no sensor could have seen count
   // as `unseen_score` instead of as fully asymmetric. match_weight scales the distance of the mirror
-  // images that land on the cloud (their distance is mostly the sampling's, weak evidence).
+  // images that land on the cloud. normals (optional, one per point, must outlive the scorer): that
+  // distance is then to the nearest point's tangent plane, which unlike the distance to the nearest
+  // point does not depend on how the surface was sampled.
   SymmetryScorer(const Points& points, std::size_t samples, double tolerance, const FreeSpace* free_space = nullptr,
-                 double unseen_score = 0.5, double match_weight = 1.0);
+                 double unseen_score = 0.5, double match_weight = 1.0, const Points* normals = nullptr);
 
   // Mean over the mirror images of: match_weight x distance to the cloud / tolerance when within the
   // tolerance, else 1 (or unseen_score where no sensor could have seen it). 0 for a perfect mirror, 1
@@ -34,6 +36,7 @@ class SymmetryScorer {
   const FreeSpace* free_space_;
   double unseen_score_;
   double match_weight_;
+  const Points* normals_;
 };
 
 }  // namespace toolinc

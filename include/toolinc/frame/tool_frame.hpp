@@ -31,8 +31,9 @@ struct ToolFrameConfig {
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
-  double symmetry_match_weight = 0.25; // sweep: weight of a matched mirror image's distance (with 4 mm
-                                    //    voxels even a perfect plane's images land 1-3 mm off); the
+  int symmetry_normal_neighbors = 6; // a mirror image's distance is to the tangent plane of its
+                                    //    nearest point, the normal from this many neighbours
+  double symmetry_match_weight = 0.25; // sweep: weight of a matched mirror image's distance; the
                                     //    strong evidence is an image where a sensor saw empty space
   double unseen_score = 0.5;        // refinement: score of a mirror image no viewpoint could have seen
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
