@@ -32,6 +32,9 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--unseen-score", c.unseen_score, "Symmetry refinement: score of a mirror image no viewpoint could have seen")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--head-line-elongation", c.head_line_elongation,
+                 "Spread ratio along/across a line, seen along the handle, that makes the head a bar")
+      ->capture_default_str()->group(group)->check(CLI::Range(1.0, 1e6));
   cli.add_option("--symmetry-normal-neighbors", c.symmetry_normal_neighbors,
                  "Neighbours of the normals a mirror image's distance is measured along")
       ->capture_default_str()->group(group)->check(CLI::Range(3, 100));

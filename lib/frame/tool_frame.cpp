@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
@@ -119,6 +120,31 @@ struct Reach {
   double positive, negative;  // m, along +X and -X from the handle axis
 };
 
+// Seen along the handle, the head of a bar-like tool (L, T, hook) lies along a line, and the symmetry
+// plane contains it. Returns the angle (in the u, v basis about the handle) of the plane's normal when
+// the head's points beyond min_distance from the handle axis are spread along a line at least
+// min_elongation times more than across it; nothing for plates and combs (hoe, rake, flat top).
+std::optional<double> head_line_normal_angle(const Points& cloud, const Vec3& handle_point, const Vec3& centroid,
+                                             const Vec3& y_axis, const Vec3& u, const Vec3& v,
+                                             double min_distance, double min_elongation) {
+  std::vector<Eigen::Vector2d> head;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : cloud) {
+    const Eigen::Vector2d q((p - handle_point).dot(u), (p - handle_point).dot(v));
+    if (q.norm() < min_distance || (p - centroid).dot(y_axis) >= 0) continue;
+    head.push_back(q);
+    mean += q;
+  }
+  if (head.size() < 20) return std::nullopt;
+  mean /= static_cast<double>(head.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (const auto& q : head) covariance += (q - mean) * (q - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(covariance);
+  if (solver.eigenvalues()(1) < min_elongation * std::max(solver.eigenvalues()(0), 1e-12)) return std::nullopt;
+  const Eigen::Vector2d line = solver.eigenvectors().col(1);
+  return std::atan2(line.y(), line.x()) + M_PI / 2;
+}
+
 // How far the effector reaches on each side of the handle axis along x_axis, measured robustly on the
 // effector side of the handle plane.
 Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
@@ -230,9 +256,20 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const SymmetryScorer refining(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                                 config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space,
                                 config.unseen_score, 1.0, &normals);
-  // The angle first (about the handle's axis line), then the plane's offset from it.
-  best_angle = golden_minimum([&](double a) { return refining.score(normal_at(a), centre); }, best_angle - step,
-                              best_angle + step, 8);
+  // The angle first (about the handle's axis line), then the plane's offset from it. A bar's half-seen
+  // surface mirrors best across planes facing the cameras, but the bar's direction does not depend on
+  // which side was seen: when the head is such a line near the chosen plane, the plane contains it.
+  const auto head_line = head_line_normal_angle(cloud, handle.point, principal.centroid, y_axis, u, v,
+                                                2.5 * handle.radius, config.head_line_elongation);
+  double to_head_line = head_line ? std::remainder(*head_line - best_angle, M_PI) : M_PI;
+  if (std::abs(to_head_line) <= 1.5 * step) {
+    best_angle += to_head_line;
+    frame.symmetry_plane_rule = "contains the head's line seen along the handle";
+  } else {
+    best_angle = golden_minimum([&](double a) { return refining.score(normal_at(a), centre); }, best_angle - step,
+                                best_angle + step, 8);
+    frame.symmetry_plane_rule = "best mirror about the handle axis";
+  }
   const Vec3 z_normal = normal_at(best_angle);
   const double offset = golden_minimum([&](double d) { return refining.score(z_normal, centre + d * z_normal); },
                                        -config.symmetry_tolerance, config.symmetry_tolerance, 8);

@@ -40,6 +40,7 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
           {"across_handle_score", frame.across_handle_score},
           {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
           {"candidates", candidates}}},
+        {"symmetry_plane_rule", frame.symmetry_plane_rule},
         {"handle_sign_rule", frame.handle_sign_rule},
         {"effector_sign_rule", frame.effector_sign_rule},
         {"effector_reach", {{"positive", frame.effector_reach_positive}, {"negative", frame.effector_reach_negative}}},

@@ -36,6 +36,9 @@ struct ToolFrameConfig {
   double symmetry_match_weight = 0.25; // sweep: weight of a matched mirror image's distance; the
                                     //    strong evidence is an image where a sensor saw empty space
   double unseen_score = 0.5;        // refinement: score of a mirror image no viewpoint could have seen
+  double head_line_elongation = 16.0; // a head whose points, seen along the handle, spread this many
+                                    //    times more (variance) along a line than across it is a bar:
+                                    //    the symmetry plane near that line contains it
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
                                     //    (measured on session models: mirror planes 0.04-0.09,
                                     //    others mostly >= 0.13)
@@ -67,6 +70,7 @@ struct ToolFrame {
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
   double symmetry_score = 1.0;           // the refined plane's distance score
   double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
+  std::string symmetry_plane_rule;
   std::string handle_sign_rule;
   std::string effector_sign_rule;
   double effector_reach_positive = 0.0;   // m, along +X from the handle axis
