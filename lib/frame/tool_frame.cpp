@@ -220,18 +220,21 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const Vec3 v = y_axis.cross(u);
   const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
   const FreeSpace free_space(cloud, viewpoints);
+  const Points normals = estimate_normals(cloud, config.symmetry_normal_neighbors);
+  const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
+                              config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space, &normals);
   // The sweep chooses among planes by contradiction: a mirror image landing where a sensor saw empty
   // space. A never-seen image is no evidence, and a matched image's distance is mostly sampling.
-  const Points normals = estimate_normals(cloud, config.symmetry_normal_neighbors);
-  const SymmetryScorer choosing(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                                config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space, 0.0,
-                                config.symmetry_match_weight, &normals);
+  const MirrorWeights choosing{0.0, config.symmetry_match_weight};
+  // The chosen plane is refined on the plain distance score, where unseen mirror images count
+  // unseen_score so that the plane does not drift towards the never-seen side.
+  const MirrorWeights refining{config.unseen_score, 1.0};
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
   // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
   const Vec3& centre = handle.point;
   const double step = config.symmetry_step_deg * kDeg;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
-    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), choosing.score(normal_at(angle), centre)});
+    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), scorer.score(normal_at(angle), centre, choosing)});
   // Tools like a T or a flat top have two mirror planes through the handle. Among the sweep's local
   // minima that score as well as the best (within the tie margin), the symmetry plane is the one
   // across which the effector reaches farthest, since the effector axis is the head's forward extent.
@@ -251,31 +254,26 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
       best_angle = sweep[i].angle_deg * kDeg;
     }
   }
-  // The chosen plane is refined on the plain distance score, where unseen mirror images count half so
-  // that the plane does not drift towards the never-seen side.
-  const SymmetryScorer refining(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                                config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space,
-                                config.unseen_score, 1.0, &normals);
   // The angle first (about the handle's axis line), then the plane's offset from it. A bar's half-seen
   // surface mirrors best across planes facing the cameras, but the bar's direction does not depend on
   // which side was seen: when the head is such a line near the chosen plane, the plane contains it.
   const auto head_line = head_line_normal_angle(cloud, handle.point, principal.centroid, y_axis, u, v,
                                                 2.5 * handle.radius, config.head_line_elongation);
-  double to_head_line = head_line ? std::remainder(*head_line - best_angle, M_PI) : M_PI;
+  const double to_head_line = head_line ? std::remainder(*head_line - best_angle, M_PI) : M_PI;
   if (std::abs(to_head_line) <= 1.5 * step) {
     best_angle += to_head_line;
     frame.symmetry_plane_rule = "contains the head's line seen along the handle";
   } else {
-    best_angle = golden_minimum([&](double a) { return refining.score(normal_at(a), centre); }, best_angle - step,
+    best_angle = golden_minimum([&](double a) { return scorer.score(normal_at(a), centre, refining); }, best_angle - step,
                                 best_angle + step, 8);
     frame.symmetry_plane_rule = "best mirror about the handle axis";
   }
   const Vec3 z_normal = normal_at(best_angle);
-  const double offset = golden_minimum([&](double d) { return refining.score(z_normal, centre + d * z_normal); },
+  const double offset = golden_minimum([&](double d) { return scorer.score(z_normal, centre + d * z_normal, refining); },
                                        -config.symmetry_tolerance, config.symmetry_tolerance, 8);
-  frame.symmetry_score = refining.score(z_normal, centre + offset * z_normal);
-  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, choosing.score(z_normal, centre + offset * z_normal)});
-  frame.across_handle_score = refining.score(y_axis, principal.centroid);
+  frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal, refining);
+  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, scorer.score(z_normal, centre + offset * z_normal, choosing)});
+  frame.across_handle_score = scorer.score(y_axis, principal.centroid, refining);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();

@@ -68,6 +68,14 @@ ToolFrame read_tool_frame(const std::string& path) {
   return frame;
 }
 
+Eigen::Matrix4d read_tool_pose(const std::string& path) {
+  const Json json = read_json(path);
+  check_type(json, "tool_pose", 1, path);
+  const Eigen::Matrix4d hand_from_model = matrix4_field(json, "matrix", path);
+  if (!is_rigid(hand_from_model, 1e-4)) throw InputError(path, "matrix: not a rigid transform");
+  return hand_from_model;
+}
+
 Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config) {
   const Eigen::Vector4d aa = axis_angle(frame.axes);
   return {

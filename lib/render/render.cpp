@@ -9,8 +9,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "toolinc/core/error.hpp"
-#include "toolinc/core/rigid.hpp"
-#include "toolinc/io/json_file.hpp"
 
 namespace toolinc {
 namespace {
@@ -369,14 +367,6 @@ std::vector<unsigned char> encode_png(const cv::Mat& image) {
   std::vector<unsigned char> bytes;
   if (!cv::imencode(".png", image, bytes)) throw std::runtime_error("cannot encode the image as PNG");
   return bytes;
-}
-
-Eigen::Matrix4d read_tool_pose(const std::string& path) {
-  const Json json = read_json(path);
-  check_type(json, "tool_pose", 1, path);
-  const Eigen::Matrix4d hand_from_model = matrix4_field(json, "matrix", path);
-  if (!is_rigid(hand_from_model, 1e-4)) throw InputError(path, "matrix: not a rigid transform");
-  return hand_from_model;
 }
 
 }  // namespace toolinc

@@ -15,6 +15,9 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config);
 // Reads the frame's matrix; throws InputError when the file is not a tool_frame or its rotation is not
 // a rotation (not orthonormal, or det != +1, e.g. a mirror-image frame).
 ToolFrame read_tool_frame(const std::string& path);
+// hand_from_model of a tool_pose file (align-pose's -o). Throws InputError naming the file when it is
+// not a tool_pose or its matrix is not rigid.
+Eigen::Matrix4d read_tool_pose(const std::string& path);
 
 Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config);
 

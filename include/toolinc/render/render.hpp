@@ -64,8 +64,4 @@ cv::Mat render_scene(const RenderScene& scene, const RenderOptions& options = {}
 // PNG bytes of an image (throws std::runtime_error when OpenCV cannot encode it).
 std::vector<unsigned char> encode_png(const cv::Mat& image);
 
-// hand_from_model of a tool_pose file (align-pose's -o), to draw a model where it is held. Throws
-// InputError naming the file when it is not a tool_pose or its matrix is not rigid.
-Eigen::Matrix4d read_tool_pose(const std::string& path);
-
 }  // namespace toolinc
