@@ -84,10 +84,10 @@ TEST(SessionPipeline, BlobDetectionWithoutAMask) {
 
 TEST(SessionPipeline, EveryFamilyManySessions) {
   // Measured on 8 families x 10 grasps: the merged model and the tooltip from the whole pipeline. The
-  // merge floors are the issue's; the tooltip floor is a regression floor below the 95 % (not
-  // met: 89 % here, 81-94 % on seeds 300-309, 500-509 and 700-709). The exploration never sees the
-  // tool's far side; where a heavy head hides most of the handle the handle fit goes off, and a few
-  // degrees of symmetry plane about the handle move a tip 10 cm out by about a centimetre.
+  // merge floors are the issue's; the tooltip floor is a regression floor below the 95 % (74 of
+  // 80 here, 92.5 %; 94.1 %, 95.9 % and 93.8 % over 320 sessions on seeds 100-709, 900-1509 and
+  // 1700-2309). The exploration sees the tool from one side: where the effector points away from the
+  // cameras its front face is never seen, and the tip found lies about the effector's thickness behind.
   int sessions = 0, tips_within_10mm = 0;
   std::vector<double> model_errors;
   for (ToolFamily family : all_families()) {
@@ -115,7 +115,7 @@ TEST(SessionPipeline, EveryFamilyManySessions) {
   std::printf("merged model: median %.2f mm, worst %.2f mm; tooltip within 10 mm in %d of %d sessions\n",
               1000 * model_errors[model_errors.size() / 2], 1000 * model_errors.back(), tips_within_10mm, sessions);
   EXPECT_LT(model_errors[model_errors.size() / 2], 0.003);
-  EXPECT_GE(tips_within_10mm, static_cast<int>(0.85 * sessions));
+  EXPECT_GE(tips_within_10mm, static_cast<int>(0.90 * sessions));
 }
 
 TEST(SessionPipeline, GrossErrorsRejectedRestMerged) {

@@ -142,3 +142,9 @@ TEST(ToolFrameDegenerate, ReasonsAreGiven) {
   expect_method_error(plane, "planar");
   expect_method_error(inside, "hand radius");
 }
+
+TEST(ToolFrameDegenerate, HandSkipMustLeaveAHandle) {
+  ToolFrameConfig config;
+  config.handle_hand_skip = config.handle_fraction;
+  EXPECT_THROW(estimate_tool_frame(make_held_tool(ToolFamily::hook, 3).observed, config), std::invalid_argument);
+}

@@ -22,6 +22,9 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
   cli.add_option("--handle-fraction", c.handle_fraction, "Share of the length, from the hand end, fitted as handle")
       ->capture_default_str()->group(group)->check(CLI::Range(0.05, 1.0));
+  cli.add_option("--handle-hand-skip", c.handle_hand_skip,
+                 "Share of the length, at the hand end, left out of the handle fit (the hand may survive the cut)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 0.9));
   cli.add_option("--symmetry-step-deg", c.symmetry_step_deg, "Coarse sweep step of the symmetry plane (deg)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.5, 45.0));
   cli.add_option("--symmetry-tolerance", c.symmetry_tolerance, "Mirror distance counted as fully asymmetric (m)")
@@ -30,8 +33,11 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--symmetry-tie-margin", c.symmetry_tie_margin, "Planes scoring within this of the best are equally symmetric")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
-  cli.add_option("--unseen-score", c.unseen_score, "Symmetry refinement: score of a mirror image no viewpoint could have seen")
-      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--head-radius-factor", c.head_radius_factor,
+                 "Effector-side points this many handle radii from the handle axis are the head (mirrored)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 100.0));
+  cli.add_option("--min-head-points", c.min_head_points, "Fewer head points than this is no head: all are mirrored")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
   cli.add_option("--head-line-elongation", c.head_line_elongation,
                  "Spread ratio along/across a line, seen along the handle, that makes the head a bar")
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 1e6));
@@ -39,7 +45,7 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
                  "Neighbours of the normals a mirror image's distance is measured along")
       ->capture_default_str()->group(group)->check(CLI::Range(3, 100));
   cli.add_option("--symmetry-match-weight", c.symmetry_match_weight,
-                 "Symmetry sweep: weight of a matched mirror image's distance")
+                 "Weight of a matched mirror image's distance against a contradicted image (1)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--salience-ratio", c.salience_ratio, "Reach ratio that makes an effector side salient")
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));

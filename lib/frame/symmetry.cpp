@@ -5,31 +5,42 @@
 
 namespace toolinc {
 
-SymmetryScorer::SymmetryScorer(const Points& points, std::size_t samples, double tolerance,
-                               const FreeSpace* free_space, const Points* normals)
-    : points_(points), tree_(points), tolerance_(tolerance), free_space_(free_space), normals_(normals) {
-  const std::size_t n = points.size();
+SymmetryScorer::SymmetryScorer(const Points& points, std::size_t samples, double tolerance, double match_weight,
+                               const FreeSpace* free_space, const Points* normals,
+                               const std::vector<std::uint32_t>* mirrored)
+    : points_(points),
+      tree_(points),
+      tolerance_(tolerance),
+      match_weight_(match_weight),
+      free_space_(free_space),
+      normals_(normals) {
+  const std::size_t n = mirrored ? mirrored->size() : points.size();
   const std::size_t count = std::min(n, std::max<std::size_t>(samples, 1));
   samples_.reserve(count);
-  for (std::size_t i = 0; i < count; ++i) samples_.push_back(static_cast<std::uint32_t>(i * n / count));
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto k = static_cast<std::uint32_t>(i * n / count);
+    samples_.push_back(mirrored ? (*mirrored)[k] : k);
+  }
 }
 
-double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane, const MirrorWeights& weights) const {
-  if (samples_.empty()) return 1.0;
+double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) const {
   double sum = 0.0;
+  std::size_t evidence = 0;
   for (std::uint32_t index : samples_) {
     const Vec3& p = points_[index];
     const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
     const auto nearest = tree_.nearest(mirrored, tolerance_);
-    if (nearest.index != KdTree::npos)
-      sum += weights.match *
-             (normals_ ? std::abs((*normals_)[nearest.index].dot(mirrored - points_[nearest.index]))
-                       : std::sqrt(nearest.distance2)) /
-             tolerance_;
-    else
-      sum += free_space_ == nullptr || free_space_->seen(mirrored) ? 1.0 : weights.unseen;
+    if (nearest.index != KdTree::npos) {
+      const double distance = normals_ ? std::abs((*normals_)[nearest.index].dot(mirrored - points_[nearest.index]))
+                                       : std::sqrt(nearest.distance2);
+      sum += match_weight_ * distance / tolerance_;
+      ++evidence;
+    } else if (free_space_ == nullptr || free_space_->seen(mirrored)) {
+      sum += 1.0;
+      ++evidence;
+    }
   }
-  return sum / static_cast<double>(samples_.size());
+  return evidence == 0 ? 1.0 : sum / static_cast<double>(evidence);
 }
 
 }  // namespace toolinc

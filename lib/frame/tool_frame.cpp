@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
@@ -17,6 +18,11 @@ namespace toolinc {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+// A sweep angle is a candidate plane when it scores lowest within this many steps on each side: a
+// plate's broad basin has shoulders, and a shoulder towards its diagonal reaches farther than the
+// true plane, which would win the tie-break.
+constexpr std::size_t kMinimumHalfWidth = 2;
+constexpr double kBarBand = 2.0;
 
 double quantile(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
@@ -62,9 +68,11 @@ struct HandleFit {
 
 // The major axis is tilted by a heavy head (7-26 degrees on hooks and L-shapes in the original), so
 // the handle axis is refitted from the handle's own points: those in the hand-side part of the tool's
-// length that lie on the current handle cylinder. A cylinder fit, unlike a principal axis, is not
-// tilted by the slanted cut the hand sphere leaves or by uneven coverage of the handle.
-HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const ToolFrameConfig& config) {
+// length, less the hand_skip share at the hand end, that lie on the current handle cylinder. A
+// cylinder fit, unlike a principal axis, is not tilted by the slanted cut the hand sphere leaves or by
+// uneven coverage of the handle.
+HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const ToolFrameConfig& config,
+                     double hand_skip) {
   Cylinder handle;
   handle.axis = principal.axes.col(0);
   handle.point = principal.centroid;
@@ -78,8 +86,9 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
     const double start = hand_end - config.handle_fraction * (hand_end - far_end);
     slab.clear();
     radial.clear();
+    const double stop = hand_end - hand_skip * (hand_end - far_end);
     for (std::size_t i = 0; i < cloud.size(); ++i)
-      if (along[i] >= start) {
+      if (along[i] >= start && along[i] <= stop) {
         slab.push_back(cloud[i]);
         radial.push_back(radial_distance(handle, cloud[i]));
       }
@@ -121,28 +130,53 @@ struct Reach {
 };
 
 // Seen along the handle, the head of a bar-like tool (L, T, hook) lies along a line, and the symmetry
-// plane contains it. Returns the angle (in the u, v basis about the handle) of the plane's normal when
-// the head's points beyond min_distance from the handle axis are spread along a line at least
-// min_elongation times more than across it; nothing for plates and combs (hoe, rake, flat top).
-std::optional<double> head_line_normal_angle(const Points& cloud, const Vec3& handle_point, const Vec3& centroid,
-                                             const Vec3& y_axis, const Vec3& u, const Vec3& v,
-                                             double min_distance, double min_elongation) {
-  std::vector<Eigen::Vector2d> head;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& p : cloud) {
-    const Eigen::Vector2d q((p - handle_point).dot(u), (p - handle_point).dot(v));
-    if (q.norm() < min_distance || (p - centroid).dot(y_axis) >= 0) continue;
-    head.push_back(q);
-    mean += q;
-  }
+// plane contains it. The line of the head's points when they spread along it at least min_elongation
+// times more (variance) than across it; nothing for plates and combs (hoe, rake, flat top).
+struct HeadLine {
+  double normal_angle;  // of the plane containing the line, in the u, v basis about the handle
+  double offset;        // of that plane from the handle's axis line, along its normal
+};
+std::optional<HeadLine> head_line(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
+                                  const Vec3& u, const Vec3& v, double min_elongation) {
   if (head.size() < 20) return std::nullopt;
-  mean /= static_cast<double>(head.size());
+  std::vector<Eigen::Vector2d> seen;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (auto i : head) {
+    seen.emplace_back((cloud[i] - handle_point).dot(u), (cloud[i] - handle_point).dot(v));
+    mean += seen.back();
+  }
+  mean /= static_cast<double>(seen.size());
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
-  for (const auto& q : head) covariance += (q - mean) * (q - mean).transpose();
+  for (const auto& q : seen) covariance += (q - mean) * (q - mean).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(covariance);
   if (solver.eigenvalues()(1) < min_elongation * std::max(solver.eigenvalues()(0), 1e-12)) return std::nullopt;
-  const Eigen::Vector2d line = solver.eigenvectors().col(1);
-  return std::atan2(line.y(), line.x()) + M_PI / 2;
+  const Eigen::Vector2d normal = solver.eigenvectors().col(0);
+  return HeadLine{std::atan2(normal.y(), normal.x()), normal.dot(mean)};
+}
+
+// The axis of a bar-like head: a cylinder fitted to the head's points near its line (within
+// kBarBand handle radii of it) and at its far end, where the bar lies (a hook's return rises from
+// there towards the hand). Nothing when the fit finds no axis across the handle.
+std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
+                                const Vec3& y_axis, const Vec3& line_normal, double line_offset, double handle_radius,
+                                const ToolFrameConfig& config) {
+  std::vector<double> along;
+  for (auto i : head) along.push_back((cloud[i] - handle_point).dot(y_axis));
+  const double band = kBarBand * handle_radius, far_end = quantile(along, 0.01);
+  Points bar;
+  Vec3 mean = Vec3::Zero();
+  for (auto i : head) {
+    const Vec3 q = cloud[i] - handle_point;
+    if (std::abs(q.dot(line_normal) - line_offset) > band || q.dot(y_axis) > far_end + band) continue;
+    bar.push_back(cloud[i]);
+    mean += cloud[i];
+  }
+  if (bar.size() < 20) return std::nullopt;
+  mean /= static_cast<double>(bar.size());
+  const Cylinder axis = fit_cylinder(bar, {mean, y_axis.cross(line_normal).normalized(), handle_radius, 0.0},
+                                     config.handle_residual_scale);
+  if (y_axis.cross(axis.axis).norm() < 0.5) return std::nullopt;  // within 30 degrees of the handle
+  return axis;
 }
 
 // How far the effector reaches on each side of the handle axis along x_axis, measured robustly on the
@@ -187,6 +221,8 @@ Eigen::Matrix4d ToolFrame::hand_from_tool() const {
 }
 
 ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints) {
+  if (config.handle_hand_skip >= config.handle_fraction)
+    throw std::invalid_argument("handle-hand-skip must be below handle-fraction: nothing would be left to fit");
   ToolFrame frame;
   const Points outside = remove_within(input, Vec3::Zero(), config.hand_radius);
   const Points cloud = outside.empty() ? Points{}
@@ -202,7 +238,10 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.eigenvalues = principal.eigenvalues;
 
   // Handle axis (Y), signed towards the hand at the origin.
-  const HandleFit handle = fit_handle(cloud, principal, config);
+  HandleFit handle = fit_handle(cloud, principal, config, config.handle_hand_skip);
+  // On a short handle the slab, once the hand end is skipped, reaches into the head and is no
+  // cylinder: then the whole slab, hand end included, is the handle's.
+  if (!handle.cylinder && config.handle_hand_skip > 0) handle = fit_handle(cloud, principal, config, 0.0);
   const Vec3 y_axis = handle.axis.normalized();
   frame.handle_point = handle.point;
   frame.handle_points = handle.points;
@@ -212,8 +251,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.handle_refinement_deg = std::acos(std::min(1.0, std::abs(y_axis.dot(principal.axes.col(0))))) / kDeg;
   frame.handle_sign_rule = "towards the hand: the hand origin lies on the +Y side of the handle";
 
-  // Symmetry plane: it contains the handle axis, so sweep its normal about Y, then refine the best
-  // angle and the plane's offset. The plane across the handle is scored for the record only.
+  // Symmetry plane: it contains the handle axis, so sweep its normal about Y and refine the best
+  // angles. The plane across the handle is scored for the record only.
   Vec3 u = principal.axes.col(1) - principal.axes.col(1).dot(y_axis) * y_axis;
   if (u.norm() < 1e-6) u = principal.axes.col(2) - principal.axes.col(2).dot(y_axis) * y_axis;
   u.normalize();
@@ -221,23 +260,30 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
   const FreeSpace free_space(cloud, viewpoints);
   const Points normals = estimate_normals(cloud, config.symmetry_normal_neighbors);
-  const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                              config.symmetry_tolerance, viewpoints.empty() ? nullptr : &free_space, &normals);
-  // The sweep chooses among planes by contradiction: a mirror image landing where a sensor saw empty
-  // space. A never-seen image is no evidence, and a matched image's distance is mostly sampling.
-  const MirrorWeights choosing{0.0, config.symmetry_match_weight};
-  // The chosen plane is refined on the plain distance score, where unseen mirror images count
-  // unseen_score so that the plane does not drift towards the never-seen side.
-  const MirrorWeights refining{config.unseen_score, 1.0};
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
   // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
   const Vec3& centre = handle.point;
+  // Only the head's points are mirrored. Points near the handle's axis mirror onto the handle across
+  // every plane through it, so they say nothing about the plane, and the handle's never-seen back half
+  // pulls the plane towards the cameras. A stick has no head: all its points are mirrored.
+  const Cylinder handle_line{centre, y_axis, 0.0, 0.0};
+  std::vector<std::uint32_t> head;
+  for (std::uint32_t i = 0; i < cloud.size(); ++i)
+    if ((cloud[i] - principal.centroid).dot(y_axis) < 0 &&
+        radial_distance(handle_line, cloud[i]) >= config.head_radius_factor * handle.radius)
+      head.push_back(i);
+  const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
+                              config.symmetry_tolerance, config.symmetry_match_weight,
+                              viewpoints.empty() ? nullptr : &free_space, &normals,
+                              static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr);
+  const auto score_at = [&](double angle) { return scorer.score(normal_at(angle), centre); };
   const double step = config.symmetry_step_deg * kDeg;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
-    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), scorer.score(normal_at(angle), centre, choosing)});
-  // Tools like a T or a flat top have two mirror planes through the handle. Among the sweep's local
-  // minima that score as well as the best (within the tie margin), the symmetry plane is the one
-  // across which the effector reaches farthest, since the effector axis is the head's forward extent.
+    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
+  // Tools like a T or a flat top have two mirror planes through the handle. Each of the sweep's local
+  // minima that scores as well as the best (within the tie margin) is refined, and the symmetry plane
+  // is the one across which the effector reaches farthest, since the effector axis is the head's
+  // forward extent.
   const auto& sweep = frame.symmetry_candidates;
   const std::size_t n = sweep.size();
   const double best_score = std::min_element(sweep.begin(), sweep.end(), [](auto& a, auto& b) {
@@ -245,35 +291,40 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
                             })->score;
   double best_angle = 0.0, best_reach = -1.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const bool local_minimum = sweep[i].score <= sweep[(i + n - 1) % n].score && sweep[i].score <= sweep[(i + 1) % n].score;
+    bool local_minimum = true;
+    for (std::size_t k = 1; k <= kMinimumHalfWidth; ++k)
+      local_minimum = local_minimum && sweep[i].score <= sweep[(i + n - k) % n].score && sweep[i].score <= sweep[(i + k) % n].score;
     if (!local_minimum || sweep[i].score > best_score + config.symmetry_tie_margin) continue;
-    const Reach r = effector_reach(cloud, principal.centroid, handle.point, y_axis, y_axis.cross(sweep[i].normal),
+    const double angle = golden_minimum(score_at, sweep[i].angle_deg * kDeg - step, sweep[i].angle_deg * kDeg + step, 8);
+    const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, y_axis.cross(normal_at(angle)),
                                    config.salience_quantile);
     if (std::max(r.positive, r.negative) > best_reach) {
       best_reach = std::max(r.positive, r.negative);
-      best_angle = sweep[i].angle_deg * kDeg;
+      best_angle = angle;
     }
   }
-  // The angle first (about the handle's axis line), then the plane's offset from it. A bar's half-seen
-  // surface mirrors best across planes facing the cameras, but the bar's direction does not depend on
-  // which side was seen: when the head is such a line near the chosen plane, the plane contains it.
-  const auto head_line = head_line_normal_angle(cloud, handle.point, principal.centroid, y_axis, u, v,
-                                                2.5 * handle.radius, config.head_line_elongation);
-  const double to_head_line = head_line ? std::remainder(*head_line - best_angle, M_PI) : M_PI;
-  if (std::abs(to_head_line) <= 1.5 * step) {
-    best_angle += to_head_line;
-    frame.symmetry_plane_rule = "contains the head's line seen along the handle";
-  } else {
-    best_angle = golden_minimum([&](double a) { return scorer.score(normal_at(a), centre, refining); }, best_angle - step,
-                                best_angle + step, 8);
-    frame.symmetry_plane_rule = "best mirror about the handle axis";
+  // A bar's half-seen surface mirrors best across planes facing the cameras, but the bar's axis does
+  // not depend on which side was seen: when the head is a bar along the chosen plane, the plane is
+  // parallel to the handle and contains the bar's axis. Otherwise it contains the handle's axis line.
+  double offset = 0.0;
+  frame.symmetry_plane_rule = "best mirror about the handle axis";
+  if (const auto line = head_line(cloud, head, centre, u, v, config.head_line_elongation)) {
+    const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
+    const auto bar = std::abs(to_line) <= 1.5 * step ? fit_bar(cloud, head, centre, y_axis, normal_at(line->normal_angle),
+                                                                line->offset, handle.radius, config)
+                                                     : std::nullopt;
+    if (bar) {
+      Vec3 normal = y_axis.cross(bar->axis).normalized();
+      if (normal.dot(normal_at(best_angle + to_line)) < 0) normal = -normal;
+      best_angle = std::atan2(normal.dot(v), normal.dot(u));
+      offset = normal.dot(bar->point - centre);
+      frame.symmetry_plane_rule = "contains the head's bar axis, parallel to the handle";
+    }
   }
   const Vec3 z_normal = normal_at(best_angle);
-  const double offset = golden_minimum([&](double d) { return scorer.score(z_normal, centre + d * z_normal, refining); },
-                                       -config.symmetry_tolerance, config.symmetry_tolerance, 8);
-  frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal, refining);
-  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, scorer.score(z_normal, centre + offset * z_normal, choosing)});
-  frame.across_handle_score = scorer.score(y_axis, principal.centroid, refining);
+  frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
+  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
+  frame.across_handle_score = scorer.score(y_axis, principal.centroid);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();

@@ -34,9 +34,9 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
                         {"rms_m", frame.handle_rms}}},
         {"symmetry",
          {{"score", frame.symmetry_score},
-          {"score_meaning", "mean truncated mirror distance / tolerance: 0 perfect mirror, 1 none"},
-          {"candidates_meaning", "the sweep scored by contradiction (unseen mirror images count 0, matched "
-                                 "distances weighted by symmetry-match-weight), then the refined plane"},
+          {"score_meaning", "over the head's mirror images that are evidence: (contradicted + symmetry-match-weight "
+                            "x matched distance / tolerance) / their number; 0 perfect mirror, 1 none"},
+          {"candidates_meaning", "the sweep about the handle axis, then the chosen plane"},
           {"across_handle_score", frame.across_handle_score},
           {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
           {"candidates", candidates}}},
@@ -46,7 +46,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"effector_reach", {{"positive", frame.effector_reach_positive}, {"negative", frame.effector_reach_negative}}},
         {"salient_effector", frame.salient_effector},
         {"config", {{"hand_radius", config.hand_radius}, {"voxel_size", config.voxel_size},
-                    {"symmetry_tolerance", config.symmetry_tolerance}, {"handle_fraction", config.handle_fraction}}}}},
+                    {"symmetry_tolerance", config.symmetry_tolerance}, {"handle_fraction", config.handle_fraction},
+                    {"handle_hand_skip", config.handle_hand_skip}}}}},
   };
 }
 

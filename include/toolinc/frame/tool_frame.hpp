@@ -21,6 +21,9 @@ struct ToolFrameConfig {
   double min_thickness = 0.001;     // m: RMS spread across the major axis (collinear) or across the
                                     //    plane (planar) below this is degenerate
   double handle_fraction = 0.5;     // share of the tool's length, from the hand end, fitted as handle
+  double handle_hand_skip = 0.2;    // share of the length at the hand end left out of the handle fit:
+                                    //    on a tilted grasp part of the hand survives the hand cut there
+                                    //    and tilts and widens the fitted cylinder
   double handle_radial_factor = 1.5;// handle points lie within this times the median radius of the fit
   int handle_iterations = 20;
   double handle_residual_scale = 0.002; // m: Huber scale of the handle's cylinder fit (~ stereo noise)
@@ -33,15 +36,15 @@ struct ToolFrameConfig {
   int symmetry_samples = 400;       // points mirrored per score
   int symmetry_normal_neighbors = 6; // a mirror image's distance is to the tangent plane of its
                                     //    nearest point, the normal from this many neighbours
-  double symmetry_match_weight = 0.25; // sweep: weight of a matched mirror image's distance; the
-                                    //    strong evidence is an image where a sensor saw empty space
-  double unseen_score = 0.5;        // refinement: score of a mirror image no viewpoint could have seen
+  double symmetry_match_weight = 0.25; // a matched mirror image's distance / tolerance weighs this
+                                    //    much against an image where a sensor saw empty space (1)
+  double head_radius_factor = 2.5;  // effector-side points farther than this many handle radii from
+                                    //    the handle's axis are the head: the points mirrored
+  int min_head_points = 30;         // fewer head points than this is no head (a stick): all are mirrored
   double head_line_elongation = 16.0; // a head whose points, seen along the handle, spread this many
                                     //    times more (variance) along a line than across it is a bar:
                                     //    the symmetry plane near that line contains it
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
-                                    //    (measured on session models: mirror planes 0.04-0.09,
-                                    //    others mostly >= 0.13)
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
   double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
   double salience_min = 0.01;       // ... this ratio and this many metres
@@ -68,7 +71,7 @@ struct ToolFrame {
   double handle_rms = 0.0;                // m, RMS radial residual of the handle points
   bool handle_cylinder = true;            // false when the handle points are not a cylinder surface
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
-  double symmetry_score = 1.0;           // the refined plane's distance score
+  double symmetry_score = 1.0;           // the chosen plane's score
   double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
   std::string symmetry_plane_rule;
   std::string handle_sign_rule;
