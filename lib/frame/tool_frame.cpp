@@ -18,10 +18,6 @@ namespace toolinc {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-// A sweep angle is a candidate plane when it scores lowest within this many steps on each side: a
-// plate's broad basin has shoulders, and a shoulder towards its diagonal reaches farther than the
-// true plane, which would win the tie-break.
-constexpr std::size_t kMinimumHalfWidth = 2;
 constexpr double kBarBand = 2.0;
 
 double quantile(std::vector<double> values, double q) {
@@ -123,6 +119,33 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
     if (change < 1e-5) break;
   }
   return fit;
+}
+
+// The candidate planes of a sweep over half a turn: the lowest angle of each basin, a maximal
+// (circular) run of angles scoring within `margin` of the best. One per basin: a plate's broad basin
+// is flat and noisy, and another angle in it, towards the plate's diagonal, reaches farther than the
+// true plane and would win the tie-break.
+std::vector<std::size_t> basin_minima(const std::vector<SymmetryCandidate>& sweep, double margin) {
+  const auto lower = [](const SymmetryCandidate& a, const SymmetryCandidate& b) { return a.score < b.score; };
+  const auto lowest = static_cast<std::size_t>(std::min_element(sweep.begin(), sweep.end(), lower) - sweep.begin());
+  const double ceiling = sweep[lowest].score + margin;
+  const std::size_t n = sweep.size();
+  std::size_t outside = 0;  // an angle in no basin, where the circular scan starts and ends
+  while (outside < n && sweep[outside].score <= ceiling) ++outside;
+  if (outside == n) return {lowest};
+  std::vector<std::size_t> minima;
+  bool in_basin = false;
+  for (std::size_t k = 1; k <= n; ++k) {
+    const std::size_t i = (outside + k) % n;
+    if (sweep[i].score > ceiling) {
+      in_basin = false;
+    } else if (!in_basin || sweep[i].score < sweep[minima.back()].score) {
+      if (in_basin) minima.back() = i;
+      else minima.push_back(i);
+      in_basin = true;
+    }
+  }
+  return minima;
 }
 
 struct Reach {
@@ -280,21 +303,13 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const double step = config.symmetry_step_deg * kDeg;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
     frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
-  // Tools like a T or a flat top have two mirror planes through the handle. Each of the sweep's local
-  // minima that scores as well as the best (within the tie margin) is refined, and the symmetry plane
-  // is the one across which the effector reaches farthest, since the effector axis is the head's
-  // forward extent.
+  // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
+  // basin of the sweep that scores as well as the best (within the tie margin) is refined, and the
+  // symmetry plane is the one across which the effector reaches farthest, since the effector axis is
+  // the head's forward extent.
   const auto& sweep = frame.symmetry_candidates;
-  const std::size_t n = sweep.size();
-  const double best_score = std::min_element(sweep.begin(), sweep.end(), [](auto& a, auto& b) {
-                              return a.score < b.score;
-                            })->score;
   double best_angle = 0.0, best_reach = -1.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    bool local_minimum = true;
-    for (std::size_t k = 1; k <= kMinimumHalfWidth; ++k)
-      local_minimum = local_minimum && sweep[i].score <= sweep[(i + n - k) % n].score && sweep[i].score <= sweep[(i + k) % n].score;
-    if (!local_minimum || sweep[i].score > best_score + config.symmetry_tie_margin) continue;
+  for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
     const double angle = golden_minimum(score_at, sweep[i].angle_deg * kDeg - step, sweep[i].angle_deg * kDeg + step, 8);
     const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, y_axis.cross(normal_at(angle)),
                                    config.salience_quantile);
