@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "toolinc/ann/kdtree.hpp"
+#include "toolinc/core/scatter.hpp"
 
 namespace toolinc {
 
@@ -78,18 +79,11 @@ Points estimate_normals(const Points& points, int k) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto neighbours = tree.knn(points[i], k);
     if (neighbours.size() < 3) continue;
-    Vec3 mean = Vec3::Zero();
-    for (const auto& n : neighbours) mean += points[n.index];
-    mean /= static_cast<double>(neighbours.size());
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (const auto& n : neighbours) {
-      const Vec3 d = points[n.index] - mean;
-      covariance.noalias() += d * d.transpose();
-    }
+    const auto spread = scatter_of<3>(neighbours.size(), [&](std::size_t j) { return points[neighbours[j].index]; });
     // The closed-form 3x3 solver: several times faster than the iterative one, and accurate enough
     // for the smallest eigenvector of a neighbourhood's spread.
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-    solver.computeDirect(covariance);
+    solver.computeDirect(spread.scatter);
     normals[i] = solver.eigenvectors().col(0);
   }
   return normals;
@@ -106,15 +100,10 @@ Points transform_points(const Points& points, const Eigen::Matrix4d& target_from
 PrincipalAxes principal_axes(const Points& points) {
   PrincipalAxes result;
   if (points.empty()) return result;
-  for (const auto& p : points) result.centroid += p;
-  result.centroid /= static_cast<double>(points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) {
-    const Vec3 d = p - result.centroid;
-    covariance.noalias() += d * d.transpose();
-  }
-  covariance /= static_cast<double>(std::max<std::size_t>(points.size() - 1, 1));
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  const auto spread = scatter_of<3>(points.size(), [&](std::size_t i) { return points[i]; });
+  result.centroid = spread.mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(
+      spread.scatter / static_cast<double>(std::max<std::size_t>(points.size() - 1, 1)));
   // Eigen sorts ascending; reverse to major, middle, minor and make the triple right-handed.
   result.eigenvalues = solver.eigenvalues().reverse().cwiseMax(0.0);
   result.axes = solver.eigenvectors().rowwise().reverse();

@@ -11,6 +11,7 @@
 
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/scatter.hpp"
 #include "toolinc/frame/cylinder_fit.hpp"
 #include "toolinc/frame/symmetry.hpp"
 
@@ -162,19 +163,14 @@ struct HeadLine {
 std::optional<HeadLine> head_line(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
                                   const Vec3& u, const Vec3& v, double min_elongation) {
   if (head.size() < 20) return std::nullopt;
-  std::vector<Eigen::Vector2d> seen;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (auto i : head) {
-    seen.emplace_back((cloud[i] - handle_point).dot(u), (cloud[i] - handle_point).dot(v));
-    mean += seen.back();
-  }
-  mean /= static_cast<double>(seen.size());
-  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
-  for (const auto& q : seen) covariance += (q - mean) * (q - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(covariance);
+  const auto seen = scatter_of<2>(head.size(), [&](std::size_t j) {
+    const Vec3 d = cloud[head[j]] - handle_point;
+    return Eigen::Vector2d(d.dot(u), d.dot(v));
+  });
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(seen.scatter);
   if (solver.eigenvalues()(1) < min_elongation * std::max(solver.eigenvalues()(0), 1e-12)) return std::nullopt;
   const Eigen::Vector2d normal = solver.eigenvectors().col(0);
-  return HeadLine{std::atan2(normal.y(), normal.x()), normal.dot(mean)};
+  return HeadLine{std::atan2(normal.y(), normal.x()), normal.dot(seen.mean)};
 }
 
 // The axis of a bar-like head: a cylinder fitted to the head's points near its line (within
