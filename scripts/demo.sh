@@ -2,9 +2,9 @@
 # The README's main command: installs the dependencies, builds, and runs the pipeline on the embedded
 # sample data:
 #  1. the sample held-tool clouds in data/held/: estimate-frame -> find-tooltip -> evaluate;
-#  2. sample recorded sessions, simulated with known ground truth: simulate-session -> crop-cloud --all
-#     -> merge-views -> estimate-frame -> find-tooltip -> evaluate (scripts/pipeline.mk), then render (the
-#     model, and a contact sheet of the session's views) and report (one HTML page per session).
+#  2. sample recorded sessions, simulated with known ground truth: simulate-session, then
+#     scripts/pipeline.mk: crop-cloud --all -> merge-views -> estimate-frame -> find-tooltip -> evaluate,
+#     render (the model, and a contact sheet of the session's views) and report (one HTML page per session).
 # Results go to ${OUT_DIR:-out/demo}.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -49,12 +49,6 @@ for family in hoe hook rake; do
   merged=$(grep -c '"accepted": true' "$result/merge_report.json")
   printf '%-9s %-16s %-28s %s\n' "$family" "$merged of $(grep -c '"file"' "$result/merge_report.json")" \
     "$(json_vector "$result/tooltip.json" position)" "$(json_error_mm "$result/evaluation.json")"
-done
-for family in hoe hook rake; do
-  result=$out/pipeline/$family
-  "$bin/render" -q "$result/model.ply" --frame "$result/frame.json" --tooltip "$result/tooltip.json" -o "$result/model.png"
-  "$bin/render" -q --session "$out/sessions/$family" -o "$result/sheet.png"
-  "$bin/report" -q "$result" -o "$result/report.html"
 done
 echo
 echo "Outputs: $out/held/ (frame, tooltip, evaluation per sample cloud); $out/sessions/ (the simulated"

@@ -198,7 +198,8 @@ TEST(SessionPipeline, MakefileRunsEveryStepOnEverySession) {
                               " -j2 >" + (dir / "make.log").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << slurp(dir / "make.log");
   for (const std::string family : {"hoe", "stick"})
-    for (const std::string file : {"views/view_000.ply", "model.ply", "merge_report.json", "frame.json", "tooltip.json"}) {
+    for (const std::string file : {"views/view_000.ply", "model.ply", "merge_report.json", "frame.json", "tooltip.json",
+                                   "evaluation.json", "model.png", "sheet.png", "report.html"}) {
       EXPECT_TRUE(fs::exists(dir / "out" / family / file)) << family << "/" << file;
     }
   const Json evaluation = read_json((dir / "out/hoe/evaluation.json").string());
