@@ -6,7 +6,6 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
-#include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/results_json.hpp"
@@ -49,85 +48,6 @@ void add_align_pose_options(CLI::App& cli, AlignPoseConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 180.0));
   cli.add_option("--ambiguity-margin", c.ambiguity_margin, "Poses scoring within this of the best fit as well")
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
-}
-
-Json candidate_json(const PoseCandidate& c, const PoseCandidate& best, const AlignPoseConfig& config) {
-  return {{"matrix", to_json(c.hand_from_model)},
-          {"score", c.score},
-          {"inlier_ratio", c.inlier_ratio},
-          {"inlier_rmse_m", c.inlier_rmse},
-          {"rotation_from_chosen_deg", rotation_difference_deg(c.hand_from_model, best.hand_from_model)},
-          {"feasible", check_feasibility(c.hand_from_model, config).feasible}};
-}
-
-Json pose_json(const PoseResult& r, const AlignPoseConfig& config, const std::string& model_file,
-               const std::string& view_file, double model_ms, double total_ms) {
-  const Feasibility& f = r.feasibility;
-  Json candidates = Json::array();
-  for (const auto& c : r.candidates) candidates.push_back(candidate_json(c, r.best, config));
-  return {
-      {"type", "tool_pose"},
-      {"version", 1},
-      {"frame", "hand"},
-      {"model", model_file},
-      {"view", view_file},
-      {"matrix", to_json(r.best.hand_from_model)},
-      {"ok", f.feasible},
-      {"fitness",
-       {{"inlier_ratio", r.best.inlier_ratio},
-        {"inlier_rmse_m", r.best.inlier_rmse},
-        {"inlier_distance_m", config.icp.inlier_distance},
-        {"head_weighted_score", r.best.score},
-        {"score_sigma_m", config.score_sigma}}},
-      {"feasible", f.feasible},
-      {"feasibility",
-       {{"translation_m", to_json(f.translation)},
-        {"tilt_deg", f.tilt_deg},
-        {"roll_deg", f.roll_deg},
-        {"about_handle_deg", f.about_handle_deg},
-        {"reason", f.reason},
-        {"limits",
-         {{"max_translation_m", config.max_translation},
-          {"max_tilt_deg", config.max_tilt_deg},
-          {"max_roll_deg", config.max_roll_deg},
-          {"max_about_handle_deg", config.max_about_handle_deg}}}}},
-      {"iterations", r.best.iterations},
-      {"converged", r.best.converged},
-      {"ambiguous", r.ambiguous},
-      {"candidates", candidates},
-      {"diagnostics",
-       {{"view_points_input", r.view_points_input},
-        {"view_points_used", r.view_points_used},
-        {"hypotheses", r.hypotheses},
-        {"roll_step_deg", config.roll_step_deg},
-        {"hand_radius_m", config.hand_radius}}},
-      {"timing_ms",
-       {{"model", model_ms}, {"view", r.view_ms}, {"global", r.global_ms}, {"refine", r.refine_ms},
-        {"total", total_ms}}},
-  };
-}
-
-// The model's tooltip and frame, found on the model in its canonical pose, carried into the hand frame.
-Json carried_tooltip_json(const Points& model, const ToolFrame& model_frame, const Eigen::Matrix4d& hand_from_model,
-                          const TooltipConfig& config) {
-  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
-  const Vec3 t = hand_from_model.topRightCorner<3, 1>();
-  Tooltip tip = find_tooltip(model, model_frame, config);
-  tip.position = r * tip.position + t;
-  tip.surface_point = r * tip.surface_point + t;
-  ToolFrame frame = model_frame;
-  frame.axes = r * frame.axes;
-  frame.origin = r * frame.origin + t;
-  return tooltip_json(tip, frame, config);
-}
-
-PointCloud oriented_model(const PointCloud& model, const Eigen::Matrix4d& hand_from_model) {
-  PointCloud oriented = model;
-  oriented.points = transform_points(model.points, hand_from_model);
-  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
-  for (auto& n : oriented.normals) n = r * n;
-  oriented.frame = "hand";
-  return oriented;
 }
 
 }  // namespace
@@ -173,15 +93,17 @@ int main(int argc, char** argv) {
       throw MethodError(view_file + ": " + e.what());
     }
     const Eigen::Matrix4d& pose = result.best.hand_from_model;
-    const Json tooltip = tooltip_file.empty() ? Json() : carried_tooltip_json(model.points, pose_model.frame, pose,
-                                                                              tooltip_config);
+    const Json tooltip = tooltip_file.empty() ? Json() : [&] {
+      const CarriedTooltip carried = carry_tooltip(pose_model, model.points, pose, tooltip_config);
+      return tooltip_json(carried.tooltip, carried.frame, tooltip_config);
+    }();
     const Feasibility& f = result.feasibility;
     spdlog::info("pose: translation ({:.4f}, {:.4f}, {:.4f}) m, tilt {:.1f}, roll {:.1f}, about the handle {:.1f} "
                  "deg; inliers {:.1f}% (RMSE {:.2f} mm); {} hypotheses{}",
                  f.translation.x(), f.translation.y(), f.translation.z(), f.tilt_deg, f.roll_deg,
                  f.about_handle_deg, 100.0 * result.best.inlier_ratio, 1000.0 * result.best.inlier_rmse,
                  result.hypotheses, result.ambiguous ? "; ambiguous: poses fitting equally well are listed" : "");
-    write_json(command.output(), pose_json(result, config, model_file, view_file, model_ms, since(start)));
+    write_json(command.output(), tool_pose_json(result, config, model_file, view_file, model_ms, since(start)));
     if (!f.feasible) throw MethodError("infeasible pose: " + f.reason + " (report written, \"ok\": false)");
     if (!oriented_file.empty())
       write_ply(oriented_file, oriented_model(model, pose), {false, command.command_line()});

@@ -69,6 +69,66 @@ ToolFrame read_tool_frame(const std::string& path) {
   return frame;
 }
 
+namespace {
+
+Json candidate_json(const PoseCandidate& c, const PoseCandidate& best, const AlignPoseConfig& config) {
+  return {{"matrix", to_json(c.hand_from_model)},
+          {"score", c.score},
+          {"inlier_ratio", c.inlier_ratio},
+          {"inlier_rmse_m", c.inlier_rmse},
+          {"rotation_from_chosen_deg", rotation_difference_deg(c.hand_from_model, best.hand_from_model)},
+          {"feasible", check_feasibility(c.hand_from_model, config).feasible}};
+}
+
+}  // namespace
+
+Json tool_pose_json(const PoseResult& r, const AlignPoseConfig& config, const std::string& model_file,
+               const std::string& view_file, double model_ms, double total_ms) {
+  const Feasibility& f = r.feasibility;
+  Json candidates = Json::array();
+  for (const auto& c : r.candidates) candidates.push_back(candidate_json(c, r.best, config));
+  return {
+      {"type", "tool_pose"},
+      {"version", 1},
+      {"frame", "hand"},
+      {"model", model_file},
+      {"view", view_file},
+      {"matrix", to_json(r.best.hand_from_model)},
+      {"ok", f.feasible},
+      {"fitness",
+       {{"inlier_ratio", r.best.inlier_ratio},
+        {"inlier_rmse_m", r.best.inlier_rmse},
+        {"inlier_distance_m", config.icp.inlier_distance},
+        {"head_weighted_score", r.best.score},
+        {"score_sigma_m", config.score_sigma}}},
+      {"feasible", f.feasible},
+      {"feasibility",
+       {{"translation_m", to_json(f.translation)},
+        {"tilt_deg", f.tilt_deg},
+        {"roll_deg", f.roll_deg},
+        {"about_handle_deg", f.about_handle_deg},
+        {"reason", f.reason},
+        {"limits",
+         {{"max_translation_m", config.max_translation},
+          {"max_tilt_deg", config.max_tilt_deg},
+          {"max_roll_deg", config.max_roll_deg},
+          {"max_about_handle_deg", config.max_about_handle_deg}}}}},
+      {"iterations", r.best.iterations},
+      {"converged", r.best.converged},
+      {"ambiguous", r.ambiguous},
+      {"candidates", candidates},
+      {"diagnostics",
+       {{"view_points_input", r.view_points_input},
+        {"view_points_used", r.view_points_used},
+        {"hypotheses", r.hypotheses},
+        {"roll_step_deg", config.roll_step_deg},
+        {"hand_radius_m", config.hand_radius}}},
+      {"timing_ms",
+       {{"model", model_ms}, {"view", r.view_ms}, {"global", r.global_ms}, {"refine", r.refine_ms},
+        {"total", total_ms}}},
+  };
+}
+
 Eigen::Matrix4d read_tool_pose(const std::string& path) {
   const Json json = read_json(path);
   check_type(json, "tool_pose", 1, path);

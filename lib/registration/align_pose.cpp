@@ -328,4 +328,25 @@ PoseResult align_pose(const PoseModel& model, const Points& view, const AlignPos
   return result;
 }
 
+PointCloud oriented_model(const PointCloud& model, const Eigen::Matrix4d& hand_from_model) {
+  PointCloud oriented = model;
+  oriented.points = transform_points(model.points, hand_from_model);
+  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
+  for (auto& n : oriented.normals) n = r * n;
+  oriented.frame = "hand";
+  return oriented;
+}
+
+CarriedTooltip carry_tooltip(const PoseModel& model, const Points& canonical, const Eigen::Matrix4d& hand_from_model,
+                             const TooltipConfig& config) {
+  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
+  const Vec3 t = hand_from_model.topRightCorner<3, 1>();
+  CarriedTooltip carried{model.frame, find_tooltip(canonical, model.frame, config)};
+  carried.tooltip.position = r * carried.tooltip.position + t;
+  carried.tooltip.surface_point = r * carried.tooltip.surface_point + t;
+  carried.frame.axes = r * carried.frame.axes;
+  carried.frame.origin = r * carried.frame.origin + t;
+  return carried;
+}
+
 }  // namespace toolinc

@@ -13,6 +13,7 @@
 
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/frame/tool_frame.hpp"
+#include "toolinc/frame/tooltip.hpp"
 #include "toolinc/registration/icp.hpp"
 
 namespace toolinc {
@@ -111,5 +112,17 @@ IcpResult refine_pose(const PoseModel& model, const Points& view, const Eigen::M
 
 // Rotation angle between two poses' rotations, in degrees.
 double rotation_difference_deg(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b);
+
+// The oriented model: the model (points and normals) moved into the hand frame by the pose.
+PointCloud oriented_model(const PointCloud& model, const Eigen::Matrix4d& hand_from_model);
+
+// The model's tool frame and tooltip, found on the model in its canonical pose, carried into the hand
+// frame by the pose.
+struct CarriedTooltip {
+  ToolFrame frame;
+  Tooltip tooltip;
+};
+CarriedTooltip carry_tooltip(const PoseModel& model, const Points& canonical, const Eigen::Matrix4d& hand_from_model,
+                             const TooltipConfig& config = {});
 
 }  // namespace toolinc
