@@ -51,8 +51,9 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
   };
 }
 
-ToolFrame read_tool_frame(const std::string& path) {
-  const Json json = read_json(path);
+ToolFrame read_tool_frame(const std::string& path) { return tool_frame_from_json(read_json(path), path); }
+
+ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   check_type(json, "tool_frame", 1, path);
   const Eigen::Matrix4d matrix = matrix4_field(json, "matrix", path);
   const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
@@ -209,8 +210,9 @@ ToolGroundTruth read_ground_truth(const std::string& path) {
   return truth;
 }
 
-Vec3 read_tooltip_position(const std::string& path) {
-  const Json json = read_json(path);
+Vec3 read_tooltip_position(const std::string& path) { return tooltip_position_from_json(read_json(path), path); }
+
+Vec3 tooltip_position_from_json(const Json& json, const std::string& path) {
   check_type(json, "tooltip", 1, path);
   return vector3_field(json, "position", path);
 }

@@ -70,15 +70,15 @@ void read_merge_report(const std::string& path, SessionReport& report) {
 }
 
 void read_frame(const std::string& path, SessionReport& report) {
-  report.frame = read_tool_frame(path);
   const Json json = read_json(path);
+  report.frame = tool_frame_from_json(json, path);
   report.salient_effector = get_optional<bool>(json, "/diagnostics/salient_effector", path);
   report.symmetry_score = get_optional<double>(json, "/diagnostics/symmetry/score", path);
 }
 
 void read_tooltip(const std::string& path, SessionReport& report) {
-  report.tooltip = read_tooltip_position(path);
   const Json json = read_json(path);
+  report.tooltip = tooltip_position_from_json(json, path);
   for (int a = 0; a < 3; ++a)
     report.tooltip_in_tool[a] = get<double>(json, "/position_in_tool_frame/" + std::to_string(a), path);
   for (int a = 0; a < 4; ++a)

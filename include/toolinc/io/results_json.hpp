@@ -16,6 +16,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config);
 // Reads the frame's matrix; throws InputError when the file is not a tool_frame or its rotation is not
 // a rotation (not orthonormal, or det != +1, e.g. a mirror-image frame).
 ToolFrame read_tool_frame(const std::string& path);
+// The same, of a file already read (path names it in errors).
+ToolFrame tool_frame_from_json(const Json& json, const std::string& path);
 // align-pose's result: the chosen pose, its fitness, feasibility and the poses fitting as well; the
 // files it came from and how long each stage took.
 Json tool_pose_json(const PoseResult& result, const AlignPoseConfig& config, const std::string& model_file,
@@ -35,5 +37,6 @@ ToolGroundTruth read_ground_truth(const std::string& path);
 Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const std::string& failure);
 // Reads the "position" of a tooltip file.
 Vec3 read_tooltip_position(const std::string& path);
+Vec3 tooltip_position_from_json(const Json& json, const std::string& path);
 
 }  // namespace toolinc
