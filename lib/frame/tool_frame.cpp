@@ -19,7 +19,7 @@ namespace toolinc {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-constexpr double kBarBand = 2.0;
+constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
 
 double quantile(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
