@@ -40,7 +40,6 @@ Eigen::Matrix4d inverse(const Eigen::Matrix4d& m) {
   return inv;
 }
 
-Vec3 apply(const Eigen::Matrix4d& m, const Vec3& p) { return m.topLeftCorner<3, 3>() * p + m.topRightCorner<3, 1>(); }
 Vec3 translation(const Eigen::Matrix4d& m) { return m.topRightCorner<3, 1>(); }
 Eigen::Matrix3d rotation(const Eigen::Matrix4d& m) { return m.topLeftCorner<3, 3>(); }
 

@@ -84,7 +84,7 @@ Json candidate_json(const PoseCandidate& c, const PoseCandidate& best, const Ali
 }  // namespace
 
 Json tool_pose_json(const PoseResult& r, const AlignPoseConfig& config, const std::string& model_file,
-               const std::string& view_file, double model_ms, double total_ms) {
+                    const std::string& view_file, double model_ms, double total_ms) {
   const Feasibility& f = r.feasibility;
   Json candidates = Json::array();
   for (const auto& c : r.candidates) candidates.push_back(candidate_json(c, r.best, config));

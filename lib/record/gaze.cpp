@@ -1,9 +1,11 @@
 #include "toolinc/record/gaze.hpp"
 
+#include "toolinc/core/rigid.hpp"
+
 namespace toolinc {
 
 Vec3 first_fixation(const Eigen::Matrix4d& root_from_hand, const GazeConfig& config) {
-  return root_from_hand.topLeftCorner<3, 3>() * config.first_guess + root_from_hand.topRightCorner<3, 1>();
+  return apply(root_from_hand, config.first_guess);
 }
 
 std::optional<Eigen::Vector2d> project(const CameraModel& camera, const Eigen::Matrix4d& root_from_camera,
@@ -32,7 +34,7 @@ std::optional<Eigen::Vector2d> blob_target(const cv::Mat& mask, const Eigen::Vec
 Vec3 point_at_pixel(const CameraModel& camera, const Eigen::Matrix4d& root_from_camera, const Eigen::Vector2d& pixel,
                     double depth) {
   const Vec3 ray((pixel.x() - camera.cx) / camera.fx, (pixel.y() - camera.cy) / camera.fy, 1.0);
-  return root_from_camera.topLeftCorner<3, 3>() * (depth * ray) + root_from_camera.topRightCorner<3, 1>();
+  return apply(root_from_camera, depth * ray);
 }
 
 }  // namespace toolinc

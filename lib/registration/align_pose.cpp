@@ -339,13 +339,11 @@ PointCloud oriented_model(const PointCloud& model, const Eigen::Matrix4d& hand_f
 
 CarriedTooltip carry_tooltip(const PoseModel& model, const Points& canonical, const Eigen::Matrix4d& hand_from_model,
                              const TooltipConfig& config) {
-  const Eigen::Matrix3d r = hand_from_model.topLeftCorner<3, 3>();
-  const Vec3 t = hand_from_model.topRightCorner<3, 1>();
   CarriedTooltip carried{model.frame, find_tooltip(canonical, model.frame, config)};
-  carried.tooltip.position = r * carried.tooltip.position + t;
-  carried.tooltip.surface_point = r * carried.tooltip.surface_point + t;
-  carried.frame.axes = r * carried.frame.axes;
-  carried.frame.origin = r * carried.frame.origin + t;
+  carried.tooltip.position = apply(hand_from_model, carried.tooltip.position);
+  carried.tooltip.surface_point = apply(hand_from_model, carried.tooltip.surface_point);
+  carried.frame.axes = hand_from_model.topLeftCorner<3, 3>() * carried.frame.axes;
+  carried.frame.origin = apply(hand_from_model, carried.frame.origin);
   return carried;
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/rigid.hpp"
 
 namespace toolinc {
 namespace {
@@ -88,7 +89,7 @@ cv::Mat crop_panel(const SessionInfo& session, const ViewRecord& record, const V
   const CameraModel& camera = session.camera;
   const Eigen::Matrix4d camera_from_hand = record.root_from_camera.inverse() * record.root_from_hand;
   const auto pixel = [&](const Vec3& hand_point, cv::Point& at) {
-    const Vec3 c = camera_from_hand.topLeftCorner<3, 3>() * hand_point + camera_from_hand.topRightCorner<3, 1>();
+    const Vec3 c = apply(camera_from_hand, hand_point);
     if (c.z() <= 0) return false;
     at = cv::Point(cvRound((camera.fx * c.x() / c.z() + camera.cx) * scale),
                    cvRound((camera.fy * c.y() / c.z() + camera.cy) * scale));

@@ -8,6 +8,7 @@
 
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/rigid.hpp"
 
 namespace toolinc {
 
@@ -15,7 +16,7 @@ Vec3 reproject_disparity(const CameraModel& camera, const Eigen::Matrix4d& root_
   if (value <= 0) return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   const double z = camera.fx * camera.baseline / camera.disparity_px(value);
   const Vec3 in_camera((u - camera.cx) * z / camera.fx, (v - camera.cy) * z / camera.fy, z);
-  return root_from_camera.topLeftCorner<3, 3>() * in_camera + root_from_camera.topRightCorner<3, 1>();
+  return apply(root_from_camera, in_camera);
 }
 
 namespace {

@@ -14,4 +14,9 @@ Eigen::Vector4d axis_angle(const Eigen::Matrix3d& rotation);
 // The rotation's angle in degrees.
 double rotation_angle_deg(const Eigen::Matrix3d& rotation);
 
+// The point p moved by the rigid transform: target_from_source * p.
+inline Eigen::Vector3d apply(const Eigen::Matrix4d& target_from_source, const Eigen::Vector3d& p) {
+  return target_from_source.topLeftCorner<3, 3>() * p + target_from_source.topRightCorner<3, 1>();
+}
+
 }  // namespace toolinc

@@ -12,6 +12,7 @@
 
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/core/random.hpp"
+#include "toolinc/core/rigid.hpp"
 #include "toolinc/session/session.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
@@ -19,9 +20,6 @@ namespace toolinc::scene {
 
 using Pose = Eigen::Matrix4d;
 
-inline Vec3 apply(const Pose& pose, const Vec3& p) {
-  return pose.topLeftCorner<3, 3>() * p + pose.topRightCorner<3, 1>();
-}
 Pose inverse(const Pose& pose);
 
 enum class Surface : std::uint8_t { nothing, wall, table, hand, tool };
