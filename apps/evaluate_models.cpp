@@ -33,7 +33,9 @@ int main(int argc, char** argv) {
     toolinc::Json results = toolinc::Json::array();
     int cases = 0, within_10 = 0, beyond_20 = 0, left_handed = 0, handle_over_3 = 0, sign_wrong = 0, salient = 0,
         failed = 0;
-    std::printf("%-16s %-10s %7s %9s %9s %9s %6s\n", "model", "symmetry", "cases", "handle<=", "tip med", "tip max",
+    // The table goes to standard output, unless the JSON does.
+    std::FILE* table = command.output() == "-" ? stderr : stdout;
+    std::fprintf(table, "%-16s %-10s %7s %9s %9s %9s %6s\n", "model", "symmetry", "cases", "handle<=", "tip med", "tip max",
                 "sign");
     for (const auto& path : models) {
       const auto model = toolinc::load_cloud(path);
@@ -66,13 +68,13 @@ int main(int argc, char** argv) {
       std::sort(tips.begin(), tips.end());
       const double median = tips.empty() ? NAN : tips[tips.size() / 2], worst = tips.empty() ? NAN : tips.back();
       const std::string base = path.substr(path.find_last_of('/') + 1);
-      std::printf("%-16s %-10s %7d %7.2f° %7.1fmm %7.1fmm %6s\n", base.c_str(), name, grasps, worst_handle, 1000 * median,
+      std::fprintf(table, "%-16s %-10s %7d %7.2f° %7.1fmm %7.1fmm %6s\n", base.c_str(), name, grasps, worst_handle, 1000 * median,
                   1000 * worst, symmetry == toolinc::ToolSymmetry::mirror ? (std::to_string(signs) + "/" + std::to_string(tips.size())).c_str() : "-");
       results.push_back({{"model", path}, {"symmetry", name}, {"cases", grasps}, {"failed", model_failed},
                          {"worst_handle_axis_deg", worst_handle}, {"median_tooltip_m", median}, {"worst_tooltip_m", worst},
                          {"effector_sign_right", signs}});
     }
-    std::printf("\nall: %d cases, %d failed; right-handed %d/%d; handle axis > 3 deg: %d; effector sign wrong: %d of %d "
+    std::fprintf(table, "\nall: %d cases, %d failed; right-handed %d/%d; handle axis > 3 deg: %d; effector sign wrong: %d of %d "
                 "salient; tooltip within 10 mm: %.1f%%, beyond 20 mm: %d\n",
                 cases, failed, cases - failed - left_handed, cases - failed, handle_over_3, sign_wrong, salient,
                 100.0 * within_10 / std::max(1, cases), beyond_20);

@@ -76,10 +76,7 @@ int main(int argc, char** argv) {
       config.model_name = std::filesystem::path(model_file).filename().string();
       config.model_symmetry = symmetry_from_string(symmetry);
     }
-    if (grasp == "random") {
-      toolinc::Rng rng(config.seed);
-      config.hand_from_canonical = toolinc::random_grasp(toolinc::exploration_grasp_range(), rng);
-    }
+    if (grasp == "random") config.hand_from_canonical = toolinc::exploration_grasp(config.seed);
     if (!label.empty()) config.tool_label = label;
     config.kinematic_error_m = kinematic_mm / 1000.0;
     for (const auto& text : gross_errors) config.gross_errors.push_back(parse_gross_error(text));

@@ -8,7 +8,7 @@
 #include <algorithm>
 
 #include "synthetic_cases.hpp"
-#include "toolinc/ann/kdtree.hpp"
+#include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/registration/merge_views.hpp"
@@ -50,15 +50,6 @@ PointCloud partial_view(const PointCloud& model, const Eigen::Matrix4d& grasp, c
 const std::vector<Vec3> kViewDirections = {Vec3(1, 0, 0.3), Vec3(0.6, 0.3, 0.8), Vec3(0.6, -0.3, -0.8),
                                            Vec3(0.2, 0.5, 1.0), Vec3(0.9, 0.2, -0.5)};
 
-double median_chamfer(const Points& a, const Points& b) {
-  const KdTree ta(a), tb(b);
-  std::vector<double> d;
-  for (const auto& p : a) d.push_back(std::sqrt(tb.nearest(p).distance2));
-  for (const auto& p : b) d.push_back(std::sqrt(ta.nearest(p).distance2));
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return d[d.size() / 2];
-}
-
 }  // namespace
 
 TEST(MergeViews, EveryFamilyWithKinematicError) {
@@ -74,7 +65,7 @@ TEST(MergeViews, EveryFamilyWithKinematicError) {
       for (const auto& v : merged.views) EXPECT_TRUE(v.accepted) << to_string(family) << " " << g << ": " << v.reason;
       Rng clean(1);
       const Points truth = observe_in_hand(held.model.points, held.grasp, 0.06, 0.0, clean);
-      chamfers.push_back(median_chamfer(merged.model.points, voxel_downsample(truth, 0.002)));
+      chamfers.push_back(median_chamfer_distance(merged.model.points, voxel_downsample(truth, 0.002)));
       EXPECT_LT(chamfers.back(), 0.004) << to_string(family) << " grasp " << g;
     }
   }

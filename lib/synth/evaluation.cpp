@@ -1,5 +1,6 @@
 #include "toolinc/synth/evaluation.hpp"
 
+#include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
@@ -7,15 +8,16 @@
 
 namespace toolinc {
 
-HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
-                                  double hand_radius, double noise_sigma, Rng& rng,
-                                  const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
-  const Points observed = observe_in_hand(canonical, grasp, hand_radius, noise_sigma, rng);
-  const ToolGroundTruth truth = tool_ground_truth(canonical, symmetry, grasp);
+namespace {
+
+// estimate-frame and find-tooltip on `cloud`, compared with the truth.
+HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewpoints,
+                                        const ToolGroundTruth& truth, const ToolFrameConfig& frame_config,
+                                        const TooltipConfig& tooltip_config) {
   HeldToolErrors errors;
   try {
-    const ToolFrame frame = estimate_tool_frame(observed, frame_config);
-    const Tooltip tip = find_tooltip(observed, frame, tooltip_config);
+    const ToolFrame frame = estimate_tool_frame(cloud, frame_config, viewpoints);
+    const Tooltip tip = find_tooltip(cloud, frame, tooltip_config);
     errors.right_handed = is_rotation(frame.axes, 1e-9);
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
@@ -23,6 +25,51 @@ HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry
   } catch (const MethodError& e) {
     errors.failure = e.what();
   }
+  return errors;
+}
+
+}  // namespace
+
+HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
+                                  double hand_radius, double noise_sigma, Rng& rng,
+                                  const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
+  const Points observed = observe_in_hand(canonical, grasp, hand_radius, noise_sigma, rng);
+  return frame_and_tooltip_errors(observed, {}, tool_ground_truth(canonical, symmetry, grasp), frame_config,
+                                  tooltip_config);
+}
+
+SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
+  const SimulatedSession session = simulate_session(config);
+  // The truth at 1 mm spacing, finer than the model's 2 mm grid, so the distances measure the model.
+  ToolShape dense = config.shape;
+  dense.spacing = 0.001;
+  const bool procedural = config.model.points.empty();
+  const Points canonical = procedural ? generate_tool(dense, 1).points : config.model.points;
+  const ToolGroundTruth truth = tool_ground_truth(canonical, procedural ? symmetry_of(config.shape.family)
+                                                                        : config.model_symmetry,
+                                                  config.hand_from_canonical);
+  SessionErrors errors;
+  std::vector<PointCloud> views;
+  for (std::size_t v = 0; v < session.views.size(); ++v) {
+    try {
+      views.push_back(crop_view(session.info, session.info.views[v], session.views[v], pipeline.crop).cloud);
+    } catch (const MethodError&) {
+      ++errors.views_rejected;  // as crop-cloud --all: one bad view does not lose the others
+    }
+  }
+  MergeResult merged;
+  try {
+    if (views.empty()) throw MethodError("no view could be cropped");
+    merged = merge_views(views, pipeline.merge);
+  } catch (const MethodError& e) {
+    errors.tool.failure = e.what();
+    return errors;
+  }
+  for (const auto& view : merged.views) errors.views_rejected += !view.accepted;
+  errors.model_median_m =
+      median_nearest_distance(merged.model.points, transform_points(canonical, config.hand_from_canonical));
+  errors.tool = frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame,
+                                         pipeline.tooltip);
   return errors;
 }
 

@@ -34,6 +34,11 @@ GraspRange exploration_grasp_range() {
   return range;
 }
 
+Eigen::Matrix4d exploration_grasp(std::uint32_t seed) {
+  Rng rng(seed);
+  return random_grasp(exploration_grasp_range(), rng);
+}
+
 GraspRange any_grasp_range() {
   GraspRange range;
   range.about_handle_deg = 180.0;

@@ -1,12 +1,16 @@
-// Accuracy of the tool frame and tooltip on a canonical model held with random grasps: the loop the
-// accuracy tests and the evaluate-models executable share.
+// Accuracy against a synthetic ground truth: of the tool frame and tooltip on a canonical model held
+// with random grasps (the loop the accuracy tests and evaluate-models share), and of the whole offline
+// pipeline on a simulated session (the loop the session test and evaluate-sessions share).
 #pragma once
 
 #include <string>
 
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
+#include "toolinc/registration/merge_views.hpp"
+#include "toolinc/session/crop.hpp"
 #include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/session_simulator.hpp"
 
 namespace toolinc {
 
@@ -23,6 +27,23 @@ struct HeldToolErrors {
 HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
                                   double hand_radius, double noise_sigma, Rng& rng,
                                   const ToolFrameConfig& frame_config = {}, const TooltipConfig& tooltip_config = {});
+
+struct PipelineConfig {
+  CropConfig crop;
+  MergeConfig merge;
+  ToolFrameConfig frame;
+  TooltipConfig tooltip;
+};
+
+struct SessionErrors {
+  int views_rejected = 0;         // by crop-cloud (too few points) or merge-views
+  double model_median_m = 0.0;    // median distance from the merged model to the true surface
+  HeldToolErrors tool;            // of the frame and tooltip; failure also says when the merge failed
+};
+
+// Simulates the session, then crop-cloud (all views), merge-views, estimate-frame and find-tooltip, as
+// scripts/pipeline.mk runs them, and compares with the tool's true surface and ground truth.
+SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& session, const PipelineConfig& pipeline = {});
 
 // The symmetry class of a canonical model, measured: mirror symmetric about x = 0 too -> front_back,
 // and also about the planes at 45 degrees -> axial; otherwise mirror (salient effector along +X).

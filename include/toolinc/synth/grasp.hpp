@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "toolinc/core/point_cloud.hpp"
@@ -27,6 +28,8 @@ Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng);
 // default tilt is 45), any rotation about the handle within +/-90 degrees. The tool then lies in the
 // original's crop box.
 GraspRange exploration_grasp_range();
+// The grasp simulate-session draws for a seed: random_grasp(exploration_grasp_range()) from Rng(seed).
+Eigen::Matrix4d exploration_grasp(std::uint32_t seed);
 
 // The grasps align-pose must cope with: any rotation about the handle, tilt +/-60 deg, roll +/-15 deg,
 // offsets +/-5 cm.

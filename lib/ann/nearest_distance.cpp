@@ -1,0 +1,40 @@
+#include "toolinc/ann/nearest_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "toolinc/ann/kdtree.hpp"
+
+namespace toolinc {
+namespace {
+
+void append_nearest_distances(const Points& from, const Points& to, std::vector<double>& distances) {
+  if (from.empty() || to.empty()) throw std::invalid_argument("nearest distance: empty cloud");
+  const KdTree tree(to);
+  for (const auto& p : from) distances.push_back(std::sqrt(tree.nearest(p).distance2));
+}
+
+double median(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+}  // namespace
+
+double median_nearest_distance(const Points& from, const Points& to) {
+  std::vector<double> distances;
+  append_nearest_distances(from, to, distances);
+  return median(std::move(distances));
+}
+
+double median_chamfer_distance(const Points& a, const Points& b) {
+  std::vector<double> distances;
+  append_nearest_distances(a, b, distances);
+  append_nearest_distances(b, a, distances);
+  return median(std::move(distances));
+}
+
+}  // namespace toolinc
