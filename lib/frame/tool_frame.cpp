@@ -20,6 +20,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
+constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis under stereo noise
 
 double quantile(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
@@ -154,21 +155,22 @@ struct Reach {
 };
 
 // Seen along the handle, the head of a bar-like tool (L, T, hook) lies along a line, and the symmetry
-// plane contains it. The line of the head's points when they spread along it at least min_elongation
-// times more (variance) than across it; nothing for plates and combs (hoe, rake, flat top).
+// plane contains it. The line of the head's points when they spread along it at least head-line-elongation
+// times more (variance) than across it; nothing for plates and combs (hoe, rake, flat top), nor when
+// there is no head (fewer than min_head_points: a stick).
 struct HeadLine {
   double normal_angle;  // of the plane containing the line, in the u, v basis about the handle
   double offset;        // of that plane from the handle's axis line, along its normal
 };
 std::optional<HeadLine> head_line(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
-                                  const Vec3& u, const Vec3& v, double min_elongation) {
-  if (head.size() < 20) return std::nullopt;
+                                  const Vec3& u, const Vec3& v, const ToolFrameConfig& config) {
+  if (static_cast<int>(head.size()) < config.min_head_points) return std::nullopt;
   const auto seen = scatter_of<2>(head.size(), [&](std::size_t j) {
     const Vec3 d = cloud[head[j]] - handle_point;
     return Eigen::Vector2d(d.dot(u), d.dot(v));
   });
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(seen.scatter);
-  if (solver.eigenvalues()(1) < min_elongation * std::max(solver.eigenvalues()(0), 1e-12)) return std::nullopt;
+  if (solver.eigenvalues()(1) < config.head_line_elongation * std::max(solver.eigenvalues()(0), 1e-12)) return std::nullopt;
   const Eigen::Vector2d normal = solver.eigenvectors().col(0);
   return HeadLine{std::atan2(normal.y(), normal.x()), normal.dot(seen.mean)};
 }
@@ -190,7 +192,7 @@ std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint
     bar.push_back(cloud[i]);
     mean += cloud[i];
   }
-  if (bar.size() < 20) return std::nullopt;
+  if (bar.size() < kMinBarPoints) return std::nullopt;
   mean /= static_cast<double>(bar.size());
   const Cylinder axis = fit_cylinder(bar, {mean, y_axis.cross(line_normal).normalized(), handle_radius, 0.0},
                                      config.handle_residual_scale);
@@ -319,7 +321,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // parallel to the handle and contains the bar's axis. Otherwise it contains the handle's axis line.
   double offset = 0.0;
   frame.symmetry_plane_rule = "best mirror about the handle axis";
-  if (const auto line = head_line(cloud, head, centre, u, v, config.head_line_elongation)) {
+  if (const auto line = head_line(cloud, head, centre, u, v, config)) {
     const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
     const auto bar = std::abs(to_line) <= 1.5 * step ? fit_bar(cloud, head, centre, y_axis, normal_at(line->normal_angle),
                                                                 line->offset, handle.radius, config)
