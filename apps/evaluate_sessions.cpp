@@ -12,6 +12,7 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/app/progress.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
 
@@ -22,12 +23,6 @@ struct Case {
   std::uint32_t seed;
   toolinc::SessionErrors errors;
 };
-
-double median_of(std::vector<double> values) {
-  if (values.empty()) return NAN;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
-  return values[values.size() / 2];
-}
 
 }  // namespace
 
@@ -111,7 +106,7 @@ int main(int argc, char** argv) {
       total_within += within;
       const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
       std::fprintf(table, "%-9s %8d %9.1f%% %7.1fmm %7.1fmm %7.2fmm %8d\n", toolinc::to_string(family).c_str(),
-                   sessions, 100.0 * within / sessions, 1000 * median_of(tips), 1000 * worst, 1000 * median_of(models),
+                   sessions, 100.0 * within / sessions, 1000 * toolinc::median(tips), 1000 * worst, 1000 * toolinc::median(models),
                    failed);
     }
     std::fprintf(table, "all: tooltip within 10 mm in %d of %d sessions (%.1f%%)\n", total_within, total,

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
+#include "toolinc/core/statistics.hpp"
 
 namespace toolinc {
 namespace {
@@ -14,12 +16,6 @@ void append_nearest_distances(const Points& from, const Points& to, std::vector<
   if (from.empty() || to.empty()) throw std::invalid_argument("nearest distance: empty cloud");
   const KdTree tree(to);
   for (const auto& p : from) distances.push_back(std::sqrt(tree.nearest(p).distance2));
-}
-
-double median(std::vector<double> values) {
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/scatter.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/frame/cylinder_fit.hpp"
 #include "toolinc/frame/symmetry.hpp"
 
@@ -21,13 +22,6 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
 constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis under stereo noise
-
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
 
 void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud,
                           const PrincipalAxes& axes, const ToolFrameConfig& config) {

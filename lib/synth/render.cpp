@@ -3,9 +3,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <opencv2/imgproc.hpp>
 
 #include "toolinc/ann/kdtree.hpp"
+#include "toolinc/core/statistics.hpp"
 
 namespace toolinc::scene {
 namespace {
@@ -50,9 +52,7 @@ double median_neighbour_distance(const Points& points) {
     const auto near = tree.knn(points[i], 2);
     if (near.size() == 2) distances.push_back(std::sqrt(near[1].distance2));
   }
-  if (distances.empty()) return 0.0;
-  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-  return distances[distances.size() / 2];
+  return distances.empty() ? 0.0 : median(std::move(distances));
 }
 
 }  // namespace
