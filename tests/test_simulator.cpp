@@ -33,13 +33,6 @@ SessionSimulatorConfig config_for(std::uint32_t seed, ToolFamily family = ToolFa
   return config;
 }
 
-Eigen::Matrix4d inverse(const Eigen::Matrix4d& m) {
-  Eigen::Matrix4d inv = Eigen::Matrix4d::Identity();
-  inv.topLeftCorner<3, 3>() = m.topLeftCorner<3, 3>().transpose();
-  inv.topRightCorner<3, 1>() = -m.topLeftCorner<3, 3>().transpose() * m.topRightCorner<3, 1>();
-  return inv;
-}
-
 Vec3 translation(const Eigen::Matrix4d& m) { return m.topRightCorner<3, 1>(); }
 Eigen::Matrix3d rotation(const Eigen::Matrix4d& m) { return m.topLeftCorner<3, 3>(); }
 

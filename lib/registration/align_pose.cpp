@@ -18,12 +18,6 @@ using Pose = Eigen::Matrix4d;
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kEndShare = 0.01;  // the tool's ends along the handle: the 1% quantiles
 
-Pose inverse(const Pose& pose) {
-  Eigen::Isometry3d isometry;
-  isometry.matrix() = pose;
-  return isometry.inverse(Eigen::Isometry).matrix();
-}
-
 double bbox_diagonal(const Points& points) {
   if (points.empty()) return 0.0;
   Vec3 lo = points.front(), hi = points.front();

@@ -57,14 +57,6 @@ double median_neighbour_distance(const Points& points) {
 
 }  // namespace
 
-Pose inverse(const Pose& pose) {
-  const Eigen::Matrix3d r = pose.topLeftCorner<3, 3>();
-  Pose inverse = Pose::Identity();
-  inverse.topLeftCorner<3, 3>() = r.transpose();
-  inverse.topRightCorner<3, 1>() = -r.transpose() * pose.topRightCorner<3, 1>();
-  return inverse;
-}
-
 RenderModel render_model(const SessionSimulatorConfig& config) {
   RenderModel model;
   if (config.model.empty()) {

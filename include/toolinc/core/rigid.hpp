@@ -19,4 +19,13 @@ inline Eigen::Vector3d apply(const Eigen::Matrix4d& target_from_source, const Ei
   return target_from_source.topLeftCorner<3, 3>() * p + target_from_source.topRightCorner<3, 1>();
 }
 
+// The inverse of a rigid transform: source_from_target, from the rotation's transpose.
+inline Eigen::Matrix4d inverse(const Eigen::Matrix4d& target_from_source) {
+  const Eigen::Matrix3d r = target_from_source.topLeftCorner<3, 3>();
+  Eigen::Matrix4d inverse = Eigen::Matrix4d::Identity();
+  inverse.topLeftCorner<3, 3>() = r.transpose();
+  inverse.topRightCorner<3, 1>() = -r.transpose() * target_from_source.topRightCorner<3, 1>();
+  return inverse;
+}
+
 }  // namespace toolinc

@@ -20,8 +20,6 @@ namespace toolinc::scene {
 
 using Pose = Eigen::Matrix4d;
 
-Pose inverse(const Pose& pose);
-
 enum class Surface : std::uint8_t { nothing, wall, table, hand, tool };
 
 // BGR, as the images are written.
