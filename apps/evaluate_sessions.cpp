@@ -106,8 +106,8 @@ int main(int argc, char** argv) {
       total_within += within;
       const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
       std::fprintf(table, "%-9s %8d %9.1f%% %7.1fmm %7.1fmm %7.2fmm %8d\n", toolinc::to_string(family).c_str(),
-                   sessions, 100.0 * within / sessions, 1000 * toolinc::median(tips), 1000 * worst, 1000 * toolinc::median(models),
-                   failed);
+                   sessions, 100.0 * within / sessions, 1000 * toolinc::median(tips), 1000 * worst,
+                   1000 * toolinc::median(models), failed);
     }
     std::fprintf(table, "all: tooltip within 10 mm in %d of %d sessions (%.1f%%)\n", total_within, total,
                  100.0 * total_within / total);

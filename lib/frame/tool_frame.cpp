@@ -76,9 +76,9 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
     for (std::size_t i = 0; i < cloud.size(); ++i) along[i] = (cloud[i] - handle.point).dot(handle.axis);
     const double hand_end = quantile(along, 0.99), far_end = quantile(along, 0.01);
     const double start = hand_end - config.handle_fraction * (hand_end - far_end);
+    const double stop = hand_end - hand_skip * (hand_end - far_end);
     slab.clear();
     radial.clear();
-    const double stop = hand_end - hand_skip * (hand_end - far_end);
     for (std::size_t i = 0; i < cloud.size(); ++i)
       if (along[i] >= start && along[i] <= stop) {
         slab.push_back(cloud[i]);
@@ -164,7 +164,8 @@ std::optional<HeadLine> head_line(const Points& cloud, const std::vector<std::ui
     return Eigen::Vector2d(d.dot(u), d.dot(v));
   });
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(seen.scatter);
-  if (solver.eigenvalues()(1) < config.head_line_elongation * std::max(solver.eigenvalues()(0), 1e-12)) return std::nullopt;
+  if (solver.eigenvalues()(1) < config.head_line_elongation * std::max(solver.eigenvalues()(0), 1e-12))
+    return std::nullopt;
   const Eigen::Vector2d normal = solver.eigenvectors().col(0);
   return HeadLine{std::atan2(normal.y(), normal.x()), normal.dot(seen.mean)};
 }
@@ -302,7 +303,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const auto& sweep = frame.symmetry_candidates;
   double best_angle = 0.0, best_reach = -1.0;
   for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
-    const double angle = golden_minimum(score_at, sweep[i].angle_deg * kDeg - step, sweep[i].angle_deg * kDeg + step, 8);
+    const double lowest = sweep[i].angle_deg * kDeg;
+    const double angle = golden_minimum(score_at, lowest - step, lowest + step, 8);
     const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, y_axis.cross(normal_at(angle)),
                                    config.salience_quantile);
     if (std::max(r.positive, r.negative) > best_reach) {
@@ -317,9 +319,9 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.symmetry_plane_rule = "best mirror about the handle axis";
   if (const auto line = head_line(cloud, head, centre, u, v, config)) {
     const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
-    const auto bar = std::abs(to_line) <= 1.5 * step ? fit_bar(cloud, head, centre, y_axis, normal_at(line->normal_angle),
-                                                                line->offset, handle.radius, config)
-                                                     : std::nullopt;
+    std::optional<Cylinder> bar;
+    if (std::abs(to_line) <= 1.5 * step)
+      bar = fit_bar(cloud, head, centre, y_axis, normal_at(line->normal_angle), line->offset, handle.radius, config);
     if (bar) {
       Vec3 normal = y_axis.cross(bar->axis).normalized();
       if (normal.dot(normal_at(best_angle + to_line)) < 0) normal = -normal;
