@@ -61,11 +61,8 @@ int main(int argc, char** argv) {
     std::mutex progress_mutex;
     const auto worker = [&] {
       for (std::size_t i; (i = next++) < cases.size();) {
-        toolinc::SessionSimulatorConfig session;
-        session.shape = toolinc::default_shape(cases[i].family);
-        session.seed = cases[i].seed;
-        session.hand_from_canonical = toolinc::exploration_grasp(cases[i].seed);
-        cases[i].errors = toolinc::evaluate_simulated_session(session, pipeline);
+        cases[i].errors =
+            toolinc::evaluate_simulated_session(toolinc::family_session(cases[i].family, cases[i].seed), pipeline);
         const std::lock_guard<std::mutex> lock(progress_mutex);
         progress(++done, cases.size());
       }

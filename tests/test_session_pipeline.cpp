@@ -16,7 +16,6 @@
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
 #include "toolinc/synth/evaluation.hpp"
-#include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
 using namespace toolinc;
@@ -24,14 +23,6 @@ using namespace toolinc::testing;
 namespace fs = std::filesystem;
 
 namespace {
-
-SessionSimulatorConfig session_config(ToolFamily family, std::uint32_t seed) {
-  SessionSimulatorConfig config;
-  config.shape = default_shape(family);
-  config.seed = seed;
-  config.hand_from_canonical = exploration_grasp(seed);
-  return config;
-}
 
 std::vector<PointCloud> crop_all(const SimulatedSession& session, const CropConfig& config = {}) {
   std::vector<PointCloud> views;
@@ -43,7 +34,7 @@ std::vector<PointCloud> crop_all(const SimulatedSession& session, const CropConf
 }  // namespace
 
 TEST(SessionPipeline, ExactPointsAndReprojectionAgreeWithinQuantisation) {
-  const SimulatedSession session = simulate_session(session_config(ToolFamily::hoe, 3));
+  const SimulatedSession session = simulate_session(family_session(ToolFamily::hoe, 3));
   const ViewRecord& record = session.info.views[0];
   ViewData without_points = session.views[0];
   without_points.points.clear();
@@ -61,7 +52,7 @@ TEST(SessionPipeline, ExactPointsAndReprojectionAgreeWithinQuantisation) {
 }
 
 TEST(SessionPipeline, BlobDetectionWithoutAMask) {
-  const SimulatedSession session = simulate_session(session_config(ToolFamily::rake, 5));
+  const SimulatedSession session = simulate_session(family_session(ToolFamily::rake, 5));
   ViewData without_blob = session.views[1];
   without_blob.blob.release();
   const CropResult with_mask = crop_view(session.info, session.info.views[1], session.views[1]);
@@ -81,7 +72,7 @@ TEST(SessionPipeline, EveryFamilyManySessions) {
   std::vector<double> model_errors;
   for (ToolFamily family : all_families()) {
     for (std::uint32_t g = 0; g < 10; ++g) {
-      const SessionErrors e = evaluate_simulated_session(session_config(family, 100 + g));
+      const SessionErrors e = evaluate_simulated_session(family_session(family, 100 + g));
       ASSERT_EQ(e.tool.failure, "") << to_string(family) << " grasp " << g;
       EXPECT_EQ(e.views_rejected, 0) << to_string(family) << " grasp " << g;
       model_errors.push_back(e.model_median_m);
@@ -113,7 +104,7 @@ TEST(SessionPipeline, EvaluateSessionsReportsThePipelinesErrors) {
   int within = 0;
   for (const auto& s : results["sessions"]) {
     const SessionErrors e = evaluate_simulated_session(
-        session_config(family_from_string(s["family"].get<std::string>()), s["seed"].get<std::uint32_t>()));
+        family_session(family_from_string(s["family"].get<std::string>()), s["seed"].get<std::uint32_t>()));
     EXPECT_EQ(s["failure"], e.tool.failure);
     EXPECT_EQ(s["tooltip_error_m"].get<double>(), e.tool.tooltip_m);
     EXPECT_EQ(s["model_median_m"].get<double>(), e.model_median_m);
@@ -132,7 +123,7 @@ TEST(SessionPipeline, GrossErrorsRejectedRestMerged) {
   // A view recorded with a grossly wrong hand pose is rejected either by crop-cloud (its points fall
   // outside the hand-frame box: too few left) or by merge-views (implausible correction or poor fit).
   for (std::uint32_t g = 0; g < 4; ++g) {
-    SessionSimulatorConfig config = session_config(g % 2 ? ToolFamily::hook : ToolFamily::shovel, 200 + g);
+    SessionSimulatorConfig config = family_session(g % 2 ? ToolFamily::hook : ToolFamily::shovel, 200 + g);
     const std::size_t bad = 1 + g % 4;
     config.gross_errors.push_back({bad, g < 2 ? 0.15 : 0.0, g < 2 ? 0.0 : 60.0});
     const SimulatedSession session = simulate_session(config);

@@ -91,6 +91,14 @@ Pose camera_looking_at(const Vec3& eye, const Vec3& target) {
   return rigid(r, eye);
 }
 
+SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed) {
+  SessionSimulatorConfig config;
+  config.shape = default_shape(family);
+  config.seed = seed;
+  config.hand_from_canonical = exploration_grasp(seed);
+  return config;
+}
+
 SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
   check(config);
   const RenderModel model = render_model(config);

@@ -81,6 +81,10 @@ struct SimulatedSession {
 // (horizontal in the root frame), y down.
 Eigen::Matrix4d camera_looking_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
 
+// What simulate-session --family F --seed S records: the family's default shape held with
+// exploration_grasp(S), everything else at its default.
+SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed);
+
 // Throws std::invalid_argument on a bad hand name, an empty pose list, a gross error for a view that does
 // not exist, or a grasp that is not rigid.
 SimulatedSession simulate_session(const SessionSimulatorConfig& config);
