@@ -113,6 +113,18 @@ TEST(SessionPipeline, EvaluateSessionsReportsThePipelinesErrors) {
   EXPECT_NE(serial.out.find("all: tooltip within 10 mm in " + std::to_string(within) + " of 4 sessions"),
             std::string::npos)
       << serial.out;
+  const Json& all = results["summary"].back();
+  EXPECT_EQ(all["family"], "all");
+  EXPECT_EQ(all["sessions"], 4);
+  EXPECT_EQ(all["tooltip_within_tolerance"], within);
+  EXPECT_LE(all["rate_interval_95"][0].get<double>(), within / 4.0);
+  EXPECT_GE(all["rate_interval_95"][1].get<double>(), within / 4.0);
+
+  // A looser tolerance counts every session whose error is within it.
+  const ToolRun loose = run_tool("evaluate-sessions", args + (dir / "loose.json").string() + " --tip-tolerance 1");
+  ASSERT_EQ(loose.exit_code, 0) << loose.err;
+  EXPECT_EQ(read_json((dir / "loose.json").string())["summary"].back()["tooltip_within_tolerance"], 4);
+  EXPECT_NE(loose.out.find("all: tooltip within 1000 mm in 4 of 4 sessions"), std::string::npos) << loose.out;
 
   const ToolRun unknown = run_tool("evaluate-sessions", "--families spoon -o " + (dir / "bad.json").string());
   EXPECT_EQ(unknown.exit_code, 2);

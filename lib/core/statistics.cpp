@@ -20,4 +20,12 @@ double median(std::vector<double> values) {
   return *middle;
 }
 
+std::pair<double, double> wilson_interval(int successes, int trials, double z) {
+  if (trials <= 0) return {0.0, 1.0};
+  const double n = trials, p = successes / n, z2 = z * z;
+  const double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+  const double half = z / (1.0 + z2 / n) * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
 }  // namespace toolinc
