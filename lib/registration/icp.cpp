@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/core/rigid.hpp"
 
 namespace toolinc {
 
@@ -53,7 +54,7 @@ IcpResult align_point_to_plane(const Points& source, const IcpTarget& target, co
     // of a stick about its axis) where they started instead of letting noise turn them freely, and,
     // unlike per-step damping, lets every step shrink to zero so the iteration converges.
     const double prior = config.damping * H.trace() / 6.0;
-    const Eigen::Matrix4d moved = result.target_from_source * initial.inverse();
+    const Eigen::Matrix4d moved = result.target_from_source * inverse(initial);
     const Eigen::AngleAxisd turned(Eigen::Matrix3d(moved.topLeftCorner<3, 3>()));
     Eigen::Matrix<double, 6, 1> offset;
     offset << turned.angle() * turned.axis(), moved.topRightCorner<3, 1>();

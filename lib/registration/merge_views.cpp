@@ -80,7 +80,7 @@ MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig&
   Eigen::Matrix4d mean_frame = Eigen::Matrix4d::Identity();
   mean_frame.topLeftCorner<3, 3>() = mean_rotation;
   mean_frame.topRightCorner<3, 1>() = translation_sum / accepted;
-  result.hand_from_reference = mean_frame.inverse();
+  result.hand_from_reference = inverse(mean_frame);
   result.model.frame = "hand";
   result.model.points = remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference),
                                                          config.voxel_size),

@@ -87,7 +87,7 @@ cv::Mat crop_panel(const SessionInfo& session, const ViewRecord& record, const V
   cv::cvtColor(view.left, grey, cv::COLOR_BGR2GRAY);
   cv::cvtColor(scaled(grey, size, cv::INTER_AREA) * 0.45, panel, cv::COLOR_GRAY2BGR);
   const CameraModel& camera = session.camera;
-  const Eigen::Matrix4d camera_from_hand = record.root_from_camera.inverse() * record.root_from_hand;
+  const Eigen::Matrix4d camera_from_hand = inverse(record.root_from_camera) * record.root_from_hand;
   const auto pixel = [&](const Vec3& hand_point, cv::Point& at) {
     const Vec3 c = apply(camera_from_hand, hand_point);
     if (c.z() <= 0) return false;

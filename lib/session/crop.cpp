@@ -87,7 +87,7 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   }
   if (config.flood) mask = flood_3d(mask, root_points, config.flood_distance);
 
-  const Eigen::Matrix4d hand_from_root = record.root_from_hand.inverse();
+  const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
   const Eigen::Matrix3d rotation = hand_from_root.topLeftCorner<3, 3>();
   const Vec3 translation = hand_from_root.topRightCorner<3, 1>();
   Vec3 box_min = config.box_min, box_max = config.box_max;
