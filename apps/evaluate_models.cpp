@@ -2,10 +2,12 @@
 // CAD models), each held with random grasps, the hand's points removed and stereo-like noise added.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
 
@@ -65,8 +67,8 @@ int main(int argc, char** argv) {
         signs += e.effector_sign_right;
       }
       if (symmetry == toolinc::ToolSymmetry::mirror) salient += static_cast<int>(tips.size()), sign_wrong += static_cast<int>(tips.size()) - signs;
-      std::sort(tips.begin(), tips.end());
-      const double median = tips.empty() ? NAN : tips[tips.size() / 2], worst = tips.empty() ? NAN : tips.back();
+      const double median = toolinc::median(tips);
+      const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
       const std::string base = path.substr(path.find_last_of('/') + 1);
       std::fprintf(table, "%-16s %-10s %7d %7.2f° %7.1fmm %7.1fmm %6s\n", base.c_str(), name, grasps, worst_handle, 1000 * median,
                   1000 * worst, symmetry == toolinc::ToolSymmetry::mirror ? (std::to_string(signs) + "/" + std::to_string(tips.size())).c_str() : "-");
