@@ -55,7 +55,7 @@ void add_align_pose_options(CLI::App& cli, AlignPoseConfig& c) {
 int main(int argc, char** argv) {
   Command command("align-pose", "The pose of a known tool in the hand from one partial view of it",
                   {"find-tooltip", "align-pose"});
-  std::string model_file, view_file, oriented_file, tooltip_file, rule = "furthest";
+  std::string model_file, view_file, oriented_file, tooltip_file, rule = toolinc::to_string(toolinc::TooltipConfig{}.rule);
   AlignPoseConfig config;
   TooltipConfig tooltip_config;
   command.cli().add_option("--model", model_file, "The tool's model in the canonical pose (PLY or PCD)")->required();

@@ -26,12 +26,6 @@ toolinc::GrossError parse_gross_error(const std::string& text) {
   return gross;
 }
 
-toolinc::ToolSymmetry symmetry_from_string(const std::string& name) {
-  return name == "axial" ? toolinc::ToolSymmetry::axial
-         : name == "front_back" ? toolinc::ToolSymmetry::front_back
-                                : toolinc::ToolSymmetry::mirror;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -48,7 +42,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->excludes(family_option);
   cli.add_option("--symmetry", symmetry, "The model's symmetry")
-      ->check(CLI::IsMember({"mirror", "front_back", "axial"}))
+      ->check(CLI::IsMember({"mirror", "front_back", "fourfold", "axial"}))
       ->capture_default_str();
   cli.add_option("--seed", config.seed, "Seed of the grasp, the errors and the noise")->capture_default_str();
   cli.add_option("--grasp", grasp, "random (drawn from the seed) or canonical (identity)")
@@ -74,7 +68,7 @@ int main(int argc, char** argv) {
     } else {
       config.model = toolinc::load_cloud(model_file);
       config.model_name = std::filesystem::path(model_file).filename().string();
-      config.model_symmetry = symmetry_from_string(symmetry);
+      config.model_symmetry = toolinc::symmetry_from_string(symmetry);
     }
     if (grasp == "random") config.hand_from_canonical = toolinc::exploration_grasp(config.seed);
     if (!label.empty()) config.tool_label = label;

@@ -47,6 +47,11 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
   cli.add_option("--symmetry-match-weight", c.symmetry_match_weight,
                  "Weight of a matched mirror image's distance against a contradicted image (1)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--blade-flatness", c.blade_flatness,
+                 "A head thinner (RMS) than this share of its width, its plane along the handle, is a blade")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--front-band", c.front_band, "Depth of the effector's front telling a face from a corner (m)")
+      ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--salience-ratio", c.salience_ratio, "Reach ratio that makes an effector side salient")
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));
   cli.add_option("--salience-min", c.salience_min, "Reach difference that makes an effector side salient (m)")
@@ -55,12 +60,17 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
 
 void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {
   const auto group = "Tooltip";
-  cli.add_option("--rule", rule, "furthest (paper: furthest in front, ties by distance from the hand) or weighted")
+  cli.add_option("--rule", rule,
+                 "weighted (the original's 0.8 x in front + 0.2 x distance from the hand) or furthest (furthest "
+                 "in front, ties by distance from the hand)")
       ->capture_default_str()->group(group)->check(CLI::IsMember({"furthest", "weighted"}));
-  cli.add_option("--tie-tolerance", c.tie_tolerance, "furthest rule: points this close to the front tie (m)")
+  cli.add_option("--tie-tolerance", c.tie_tolerance, "Points scoring this close to the best tie (m)")
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
   cli.add_option("--effector-weight", c.effector_weight, "weighted rule: weight of the distance in front (0..1)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--smoothing-neighbors", c.smoothing_neighbors,
+                 "weighted rule: tied points compared by their this many nearest points' mean distance in front")
+      ->capture_default_str()->group(group)->check(CLI::Range(1, 1000));
   cli.add_option("--density-radius", c.density_radius, "Density check radius (m)")
       ->capture_default_str()->group(group)->check(CLI::PositiveNumber);
   cli.add_option("--min-neighbors", c.min_neighbors, "A tooltip needs more than this many neighbours")

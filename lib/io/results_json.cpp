@@ -167,9 +167,6 @@ Json ground_truth_json(const ToolGroundTruth& truth, const ToolShape& shape) {
   frame.topRightCorner<3, 1>() = truth.origin;
   Json tips = Json::array();
   for (const auto& tip : truth.tooltips) tips.push_back(to_json(tip));
-  const char* symmetry = truth.symmetry == ToolSymmetry::mirror       ? "mirror"
-                         : truth.symmetry == ToolSymmetry::front_back ? "front_back"
-                                                                      : "axial";
   return {
       {"type", "tool_ground_truth"},
       {"version", 1},
@@ -178,7 +175,7 @@ Json ground_truth_json(const ToolGroundTruth& truth, const ToolShape& shape) {
        {{"family", to_string(shape.family)}, {"handle_length", shape.handle_length},
         {"handle_radius", shape.handle_radius}, {"head_length", shape.head_length},
         {"head_width", shape.head_width}, {"head_height", shape.head_height}, {"spacing", shape.spacing}}},
-      {"symmetry", symmetry},
+      {"symmetry", to_string(truth.symmetry)},
       {"hand_from_canonical", to_json(truth.hand_from_canonical)},
       {"tool_frame", to_json(frame)},
       {"tooltip", to_json(truth.tooltips.front())},
@@ -196,12 +193,11 @@ ToolGroundTruth read_ground_truth(const std::string& path) {
   truth.origin = frame.topRightCorner<3, 1>();
   if (!is_rotation(truth.axes, 1e-6) || !is_rigid(truth.hand_from_canonical, 1e-6))
     throw InputError(path, "the ground truth's transforms are not rigid");
-  const std::string symmetry = json.value("symmetry", "");
-  if (symmetry != "mirror" && symmetry != "front_back" && symmetry != "axial")
-    throw InputError(path, "symmetry must be mirror, front_back or axial");
-  truth.symmetry = symmetry == "mirror" ? ToolSymmetry::mirror
-                   : symmetry == "front_back" ? ToolSymmetry::front_back
-                                              : ToolSymmetry::axial;
+  try {
+    truth.symmetry = symmetry_from_string(json.value("symmetry", ""));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path, e.what());
+  }
   if (!json.contains("equivalent_tooltips") || !json["equivalent_tooltips"].is_array() ||
       json["equivalent_tooltips"].empty())
     throw InputError(path, "missing \"equivalent_tooltips\"");
