@@ -3,6 +3,7 @@
 # toolinc::<name> (see ToolincInstall.cmake); `toolinc` links them all (the tests and benchmarks use it).
 
 set(TOOLINC_COMPONENTS "" CACHE INTERNAL "")
+set(TOOLINC_COMPONENT_FOLDERS app yarp CACHE INTERNAL "")  # the apps' glue and the YARP adapter: not components
 # Sources that are in lib/ but only the tests and benchmarks use (tests/support builds them).
 set(TOOLINC_TEST_ONLY_SOURCES
     ${PROJECT_SOURCE_DIR}/lib/appearance/onnx_writer.cpp
@@ -35,6 +36,7 @@ function(toolinc_component name)
   target_compile_options(${target} PRIVATE -Wall -Wextra)
   target_link_libraries(${target} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
   set(TOOLINC_COMPONENTS ${TOOLINC_COMPONENTS} ${name} CACHE INTERNAL "")
+  set(TOOLINC_COMPONENT_FOLDERS ${TOOLINC_COMPONENT_FOLDERS} ${ARG_FOLDERS} CACHE INTERNAL "")
 endfunction()
 
 # Eigen only.
@@ -53,6 +55,14 @@ toolinc_component(report FOLDERS report PUBLIC toolinc::io PRIVATE spdlog::spdlo
 toolinc_component(record FOLDERS record EXCLUDE record/sim_backend.cpp PUBLIC toolinc::session PRIVATE spdlog::spdlog)
 toolinc_component(sim FOLDERS synth EXTRA record/sim_backend.cpp PUBLIC toolinc::record
                   PRIVATE opencv_imgproc spdlog::spdlog)
+
+# A new folder of lib/ in no component would be silently left out of the build: say so.
+file(GLOB lib_entries RELATIVE ${PROJECT_SOURCE_DIR}/lib LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/lib/*)
+foreach(entry ${lib_entries})
+  if(IS_DIRECTORY ${PROJECT_SOURCE_DIR}/lib/${entry} AND NOT entry IN_LIST TOOLINC_COMPONENT_FOLDERS)
+    message(FATAL_ERROR "lib/${entry}/ belongs to no component: add it to one in cmake/ToolincComponents.cmake")
+  endif()
+endforeach()
 
 add_library(toolinc INTERFACE)
 add_library(toolinc::toolinc ALIAS toolinc)
