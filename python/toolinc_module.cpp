@@ -1,6 +1,6 @@
 // The `toolinc` Python module: the executables' steps on numpy arrays. Each function takes the same
-// option names as the executable's long options (`hand_radius=0.05` or `config={"hand-radius": 0.05}`),
-// checked by the executable's own option definitions, and returns the JSON the executable writes, as a
+// option names as the executable's long options (`hand_radius=0.05`, `config={"hand-radius": 0.05}` or
+// a config file `config="configs/icub.json"`), checked by the executable's own option definitions, and returns the JSON the executable writes, as a
 // dict whose numeric arrays are numpy arrays. Errors are toolinc.InputError (the executable's exit 2) or
 // toolinc.MethodError (exit 3), carrying the executable's message.
 #include <pybind11/numpy.h>
@@ -10,8 +10,10 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 
+#include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -118,23 +120,28 @@ py::object to_python(const Json& j) {
 
 // ---- options: the executables' own definitions, fed from keyword arguments ----
 
-// Applies `config` (a dict) and then `kwargs` as the executable's long options: key "hand-radius" or
-// hand_radius. Values are checked as on the command line; an unknown key is an error.
-void parse_options(CLI::App& cli, const py::dict& config, const py::kwargs& kwargs) {
-  std::vector<std::string> args;
+// Applies `config` and `kwargs` as the executable's long options (key "hand-radius" or hand_radius).
+// `config` is a dict of options or, as -c/--config, the path of a JSON config file (top-level keys and
+// the executable's sections); the keywords win over it, as the command line does over a file. Values
+// are checked as on the command line; an unknown key is an error.
+void parse_options(Command& command, const py::object& config, const py::kwargs& kwargs) {
+  std::map<std::string, std::string> options;
   const auto add = [&](const py::handle& key, const py::handle& value) {
     std::string name = py::str(key).cast<std::string>();
     std::replace(name.begin(), name.end(), '_', '-');
-    std::string text = py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false")
-                                                        : py::str(value).cast<std::string>();
-    args.push_back("--" + name);
-    args.push_back(text);
+    options["--" + name] = py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false")
+                                                             : py::str(value).cast<std::string>();
   };
-  for (const auto& [key, value] : config) add(key, value);
+  if (py::isinstance<py::dict>(config))
+    for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(config)) add(key, value);
   for (const auto& [key, value] : kwargs) add(key, value);
+  std::vector<std::string> args;
+  for (const auto& [name, value] : options) args.insert(args.end(), {name, value});
+  if (!config.is_none() && !py::isinstance<py::dict>(config))
+    args.insert(args.end(), {"--config", py::str(config).cast<std::string>()});
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
   try {
-    cli.parse(args);
+    command.cli().parse(args);
   } catch (const CLI::ParseError& e) {
     throw InputError("", e.what());
   }
@@ -164,25 +171,25 @@ void write_ply_py(const std::string& path, const py::handle& cloud, bool ascii) 
   write_ply(path, cloud_from_python(cloud, "cloud"), {ascii, "python toolinc.write_ply"});
 }
 
-py::object estimate_tool_frame_py(const py::handle& cloud, const py::dict& config, const py::kwargs& kwargs) {
+py::object estimate_tool_frame_py(const py::handle& cloud, const py::object& config, const py::kwargs& kwargs) {
   ToolFrameConfig frame_config;
-  CLI::App cli("estimate-frame");
-  add_tool_frame_options(cli, frame_config);
-  parse_options(cli, config, kwargs);
+  Command command("estimate-frame", "");
+  add_tool_frame_options(command.cli(), frame_config);
+  parse_options(command, config, kwargs);
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
   return to_python(tool_frame_json(estimate_tool_frame(c.points, frame_config, c.viewpoints), frame_config));
 }
 
-py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, const py::dict& config,
+py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, const py::object& config,
                            const py::kwargs& kwargs) {
   ToolFrameConfig frame_config;
   TooltipConfig tooltip_config;
   std::string rule = "furthest";
-  CLI::App cli("find-tooltip");
-  add_tool_frame_options(cli, frame_config);
-  add_tooltip_options(cli, tooltip_config, rule);
-  parse_options(cli, config, kwargs);
+  Command command("find-tooltip", "", {"estimate-frame", "find-tooltip"});
+  add_tool_frame_options(command.cli(), frame_config);
+  add_tooltip_options(command.cli(), tooltip_config, rule);
+  parse_options(command, config, kwargs);
   tooltip_config.rule = tooltip_rule_from_string(rule);
   tooltip_config.hand_radius = frame_config.hand_radius;
   const ToolFrame given = frame.is_none() ? ToolFrame{} : frame_from_python(frame);
@@ -192,11 +199,11 @@ py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, con
   return to_python(tooltip_json(find_tooltip(c.points, used, tooltip_config), used, tooltip_config));
 }
 
-py::tuple merge_views_py(const py::list& views, const py::dict& config, const py::kwargs& kwargs) {
+py::tuple merge_views_py(const py::list& views, const py::object& config, const py::kwargs& kwargs) {
   MergeConfig merge_config;
-  CLI::App cli("merge-views");
-  add_merge_options(cli, merge_config);
-  parse_options(cli, config, kwargs);
+  Command command("merge-views", "");
+  add_merge_options(command.cli(), merge_config);
+  parse_options(command, config, kwargs);
   std::vector<PointCloud> clouds;
   std::vector<std::string> names;
   for (const auto& view : views) {
@@ -207,12 +214,12 @@ py::tuple merge_views_py(const py::list& views, const py::dict& config, const py
   return py::make_tuple(cloud_to_python(merged.model), to_python(merge_report_json(names, merged, "")));
 }
 
-py::object align_pose_py(const py::handle& model, const py::handle& view, const py::dict& config,
+py::object align_pose_py(const py::handle& model, const py::handle& view, const py::object& config,
                          const py::kwargs& kwargs) {
   AlignPoseConfig align_config;
-  CLI::App cli("align-pose");
-  add_align_pose_options(cli, align_config);
-  parse_options(cli, config, kwargs);
+  Command command("align-pose", "", {"find-tooltip", "align-pose"});
+  add_align_pose_options(command.cli(), align_config);
+  parse_options(command, config, kwargs);
   const PointCloud m = cloud_from_python(model, "model"), v = cloud_from_python(view, "view");
   const PoseModel pose_model = pose_model_of(m, v, align_config, "model", "view");
   const PoseResult result = align_pose(pose_model, v.points, align_config);
@@ -244,17 +251,17 @@ PYBIND11_MODULE(toolinc, m) {
         "viewpoints (K, 3).");
   m.def("write_ply", &write_ply_py, py::arg("path"), py::arg("cloud"), py::arg("ascii") = false,
         "Writes a cloud ((N, 3) array or read_cloud's dict) as PLY, atomically.");
-  m.def("estimate_tool_frame", &estimate_tool_frame_py, py::arg("cloud"), py::arg("config") = py::dict(),
+  m.def("estimate_tool_frame", &estimate_tool_frame_py, py::arg("cloud"), py::arg("config") = py::none(),
         "The tool frame (estimate-frame's tool_frame JSON as a dict) of a cloud in the hand frame. Options: "
-        "estimate-frame's long options as keywords (hand_radius=...) or in config.");
+        "estimate-frame's long options as keywords (hand_radius=...), in a config dict, or config=FILE (as -c).");
   m.def("find_tooltip", &find_tooltip_py, py::arg("cloud"), py::arg("frame") = py::none(),
-        py::arg("config") = py::dict(),
+        py::arg("config") = py::none(),
         "The tooltip (find-tooltip's tooltip JSON as a dict); frame: a tool_frame dict or file, estimated "
         "from the cloud when None. Options: find-tooltip's long options.");
-  m.def("merge_views", &merge_views_py, py::arg("views"), py::arg("config") = py::dict(),
+  m.def("merge_views", &merge_views_py, py::arg("views"), py::arg("config") = py::none(),
         "Merges hand-frame views (the first is the reference): (model cloud dict, merge_report dict). "
         "Options: merge-views' long options.");
-  m.def("align_pose", &align_pose_py, py::arg("model"), py::arg("view"), py::arg("config") = py::dict(),
+  m.def("align_pose", &align_pose_py, py::arg("model"), py::arg("view"), py::arg("config") = py::none(),
         "How a known tool (model in the canonical pose) is held, from one partial view in the hand frame: "
         "align-pose's tool_pose JSON as a dict. Options: align-pose's long options.");
 }

@@ -27,10 +27,27 @@ def test_tooltip_equals_find_tooltip(tool, family):
 def test_frame_equals_estimate_frame_with_options(tool):
     cloud = HELD / "hook.ply"
     expected = cli_json(tool, "estimate-frame", cloud, "--hand-radius", "0.07", "--voxel-size", "0.004")
-    frame = toolinc.estimate_tool_frame(toolinc.read_cloud(str(cloud)), hand_radius=0.07, config={"voxel-size": 0.004})
+    frame = toolinc.estimate_tool_frame(toolinc.read_cloud(str(cloud)), hand_radius=0.07,
+                                        config={"voxel-size": 0.004, "hand-radius": 0.05})  # the keyword wins
     assert frame["matrix"].shape == (4, 4)
     assert np.max(np.abs(frame["matrix"] - np.array(expected["matrix"]))) <= 1e-9
     assert frame["diagnostics"]["config"]["hand_radius"] == 0.07
+
+
+def test_config_file_as_with_c(tool, tmp_path):
+    cloud = HELD / "l-stick.ply"
+    config = tmp_path / "config.json"
+    config.write_text(json.dumps({"hand-radius": 0.07, "find-tooltip": {"rule": "weighted", "effector-weight": 0.6},
+                                  "align-pose": {"roll-step-deg": 10}}))
+    expected = cli_json(tool, "find-tooltip", cloud, "-c", config)
+    tip = toolinc.find_tooltip(toolinc.read_cloud(str(cloud)), config=str(config))
+    assert tip["diagnostics"]["rule"] == "weighted" and tip["diagnostics"]["effector_weight"] == 0.6
+    assert np.max(np.abs(tip["position"] - np.array(expected["position"]))) <= 1e-9
+    # The keywords win over the file, as the command line does.
+    expected = cli_json(tool, "find-tooltip", cloud, "-c", config, "--effector-weight", "0.9")
+    tip = toolinc.find_tooltip(toolinc.read_cloud(str(cloud)), config=str(config), effector_weight=0.9)
+    assert np.max(np.abs(tip["position"] - np.array(expected["position"]))) <= 1e-9
+    assert tip["diagnostics"]["effector_weight"] == 0.9
 
 
 def test_given_frame_and_plain_arrays(tool):
