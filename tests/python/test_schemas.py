@@ -56,6 +56,11 @@ def test_merge_report_and_session_evaluation(tool, tmp_path):
     assert tool("simulate-session", "--family", "rake", "--seed", 2, "--gross-error", "1:0:30", "-o", session,
                 "-q").returncode == 0
     check("tool_ground_truth", session / "ground_truth.json")
+    check("session", session / "session.json")
+    views_json = sorted(session.glob("views/*/view.json"))
+    assert len(views_json) == 5
+    for view in views_json:
+        check("view", view)
     tool("crop-cloud", session, "--all", "-o", views, "-q")
     clouds = sorted(views.glob("*.ply"))
     assert len(clouds) >= 2
@@ -64,6 +69,17 @@ def test_merge_report_and_session_evaluation(tool, tmp_path):
     assert not all(view["accepted"] for view in merged["views"])  # the spoilt view is rejected, with its reason
     assert tool("evaluate-sessions", "--families", "hoe", "--grasps", 1, "-o", evaluation, "-q").returncode == 0
     check("session_evaluation", evaluation)
+
+
+def test_recorded_session(tool, tmp_path):
+    session = tmp_path / "recorded"
+    run = tool("record", "--robot", "icub", "--hand", "left", "--label", "hoe", "--backend", "sim", "-o", session, "-q")
+    assert run.returncode == 0, run.stderr
+    check("session", session / "session.json")
+    views = sorted(session.glob("views/*/view.json"))
+    assert views
+    for view in views:
+        check("view", view)
 
 
 def test_model_evaluation(tool, tmp_path):
