@@ -2,6 +2,7 @@
 # prefix alone and against the build tree, runs them, and checks
 #  - the examples' tooltip equals find-tooltip's on the same cloud to 1e-9 m (C++ and, when built, Python);
 #  - a consumer linking only toolinc::geometry links neither OpenCV nor CLI11 nor the other components.
+#  - toolinc/pcl.hpp's conversions and overloads (tests/package/pcl), when PCL is installed;
 #  - the project configures without GoogleTest and Google Benchmark when its tests and benchmarks are off.
 # Variables: SOURCE_DIR, BUILD_DIR, WORK_DIR, INTERPRETER (a python3 for the comparisons), PYTHON (true
 # when the module is built).
@@ -89,6 +90,20 @@ foreach(where prefix build-tree)
     message(STATUS "PCL example not built (PCL not found)")
   endif()
 endforeach()
+
+# toolinc/pcl.hpp against the installed headers and PCL's package, when PCL is there.
+# (cmake -P knows no system prefixes: the usual ones are named.)
+find_path(pcl_header pcl/point_cloud.h PATHS /usr/include /usr/local/include
+          PATH_SUFFIXES pcl-1.14 pcl-1.13 pcl-1.12 pcl-1.11 pcl-1.10)
+if(pcl_header)
+  run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/pcl -B ${WORK_DIR}/pcl -G "Unix Makefiles"
+      -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+  run(${CMAKE_COMMAND} --build ${WORK_DIR}/pcl -j 2)
+  run(${WORK_DIR}/pcl/pcl_interop)
+  message(STATUS "${run_output}")
+else()
+  message(STATUS "PCL not found: toolinc/pcl.hpp not checked")
+endif()
 
 if(PYTHON)
   file(GLOB module ${prefix}/lib*/python3/dist-packages/toolinc*.so)
