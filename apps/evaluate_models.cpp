@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   double hand_radius = 0.06, noise = 0.0015;
   toolinc::ToolFrameConfig frame_config;
   toolinc::TooltipConfig tooltip_config;
-  std::string rule = toolinc::to_string(toolinc::TooltipConfig{}.rule);
+  std::string rule;  // add_tooltip_options sets its default
   auto& cli = command.cli();
   cli.add_option("models", models, "Canonical models (handle from the origin along -Y, effector +X)")->required();
   cli.add_option("--grasps", grasps, "Random grasps per model")->capture_default_str()->check(CLI::PositiveNumber);

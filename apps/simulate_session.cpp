@@ -1,4 +1,4 @@
-// simulate-session -o SESSION: a recorded session made offline (design.md "Recorded session"): a
+// simulate-session -o SESSION: a recorded session made offline (docs/formats.md "Recorded session"): a
 // procedural or given tool held in the hand, explored in the original's five wrist poses and rendered as
 // the robot would record it, with ground_truth.json.
 #include <spdlog/spdlog.h>

@@ -1,4 +1,4 @@
-// The tool's intrinsic frame (paper sect. 4.1-4.2, design.md): origin at the centre of mass, X the
+// The tool's intrinsic frame (paper sect. 4.1-4.2, docs/formats.md): origin at the centre of mass, X the
 // effector axis (towards the salient side of the effector), Y the handle axis (towards the hand), Z the
 // symmetry axis = X x Y. Always right-handed.
 #pragma once

@@ -1,4 +1,4 @@
-// Procedural tools in the canonical pose (design.md): the handle starts at the origin (the hand) and
+// Procedural tools in the canonical pose (docs/formats.md): the handle starts at the origin (the hand) and
 // runs along -Y, the effector points towards +X, and every tool is mirror-symmetric about z = 0.
 // Points are sampled uniformly on the outer surface with outward normals.
 #pragma once
