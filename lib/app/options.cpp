@@ -72,6 +72,9 @@ void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {
   cli.add_option("--smoothing-neighbors", c.smoothing_neighbors,
                  "weighted rule: tied points compared by their this many nearest points' mean distance in front")
       ->capture_default_str()->group(group)->check(CLI::Range(1, 1000));
+  cli.add_option("--ambiguity-distance", c.ambiguity_distance,
+                 "An alternative tip this far from the chosen one makes the tooltip ambiguous (m)")
+      ->capture_default_str()->group(group)->check(CLI::PositiveNumber);
   cli.add_option("--density-radius", c.density_radius, "Density check radius (m)")
       ->capture_default_str()->group(group)->check(CLI::PositiveNumber);
   cli.add_option("--min-neighbors", c.min_neighbors, "A tooltip needs more than this many neighbours")

@@ -349,6 +349,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     const bool forward = r.positive >= r.negative;
     const bool face = front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis),
                                     config.front_band);
+    frame.tied_planes.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
     const std::pair<bool, double> merit = blade ? std::pair{true, -std::abs(normal_at(angle).dot(*blade))}
                                                 : std::pair{face, std::max(r.positive, r.negative)};
     if (merit > best_merit) {
@@ -360,7 +361,11 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // not depend on which side was seen: when the head is a bar along the chosen plane, the plane is
   // parallel to the handle and contains the bar's axis. Otherwise it contains the handle's axis line.
   double offset = 0.0;
-  frame.symmetry_plane_rule = "best mirror about the handle axis";
+  frame.symmetry_plane_rule =
+      frame.tied_planes.size() < 2 ? "best mirror about the handle axis"
+      : blade ? fmt::format("of {} planes mirroring as well, the one across the blade", frame.tied_planes.size())
+              : fmt::format("of {} planes mirroring as well, the one whose effector front is a face, not a corner, "
+                            "and reaches farthest", frame.tied_planes.size());
   if (const auto line = head_line(cloud, head, centre, u, v, config)) {
     const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
     std::optional<Cylinder> bar;

@@ -2,13 +2,17 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/scatter.hpp"
+#include "toolinc/core/statistics.hpp"
 
 namespace toolinc {
 
@@ -20,72 +24,149 @@ TooltipRule tooltip_rule_from_string(const std::string& name) {
 
 std::string to_string(TooltipRule rule) { return rule == TooltipRule::furthest ? "furthest" : "weighted"; }
 
-Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config) {
-  const Eigen::Matrix3d tool_from_hand = frame.axes.transpose();
+namespace {
+
+// One application of the rule on one frame: the chosen point, the tied points and their tie-breaks.
+struct Pick {
+  std::uint32_t chosen = KdTree::npos;
+  std::vector<std::uint32_t> tied;
+  std::vector<double> tie_breaks;  // of tied
+  double score = 0.0;
+  int candidates = 0, rejected_sparse = 0;
+};
+
+Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config) {
   const double hand_r2 = config.hand_radius * config.hand_radius;
   std::vector<std::uint32_t> candidates;
   for (std::uint32_t i = 0; i < points.size(); ++i)
     if (points[i].squaredNorm() > hand_r2 && (points[i] - frame.origin).dot(frame.handle_axis()) < 0)
       candidates.push_back(i);
-
   // The density check needs a radius search, so it runs lazily, best candidates first.
-  const KdTree tree(points);
   const auto dense = [&](std::uint32_t i) {
     const auto needed = static_cast<std::size_t>(config.min_neighbors) + 2;  // the point itself + "more than"
     return tree.count_within(points[i], config.density_radius, needed) >= needed;
   };
   const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(frame.effector_axis()); };
-  const auto weighted = [&](std::uint32_t i) {
-    return config.effector_weight * front(i) + (1.0 - config.effector_weight) * points[i].norm();
+  const auto primary = [&](std::uint32_t i) {
+    return config.rule == TooltipRule::furthest
+               ? front(i)
+               : config.effector_weight * front(i) + (1.0 - config.effector_weight) * points[i].norm();
   };
-  // Sort by the primary score, ties by index, so the result does not depend on the sort's stability.
-  const auto by_score_desc = [&](auto&& score) {
-    std::vector<double> s(points.size());
-    for (auto i : candidates) s[i] = score(i);
-    std::sort(candidates.begin(), candidates.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return s[a] > s[b] || (s[a] == s[b] && a < b); });
-  };
+  // Sorted by the primary score, ties by index, so the result does not depend on the sort's stability.
+  std::vector<double> s(points.size());
+  for (auto i : candidates) s[i] = primary(i);
+  std::sort(candidates.begin(), candidates.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return s[a] > s[b] || (s[a] == s[b] && a < b); });
 
-  Tooltip tip;
-  tip.candidates = static_cast<int>(candidates.size());
-  std::uint32_t chosen = KdTree::npos;
+  Pick p;
+  p.candidates = static_cast<int>(candidates.size());
   // Points scoring within tie-tolerance (about 3 sigma of the noise) of the best dense point tie: noise,
   // not the shape, decides which of them scores best.
-  const auto primary = [&](std::uint32_t i) { return config.rule == TooltipRule::weighted ? weighted(i) : front(i); };
-  by_score_desc(primary);
-  auto first_dense = std::find_if(candidates.begin(), candidates.end(), dense);
-  tip.rejected_sparse = static_cast<int>(first_dense - candidates.begin());
-  std::vector<std::uint32_t> tied;
-  if (first_dense != candidates.end()) {
-    const double cutoff = primary(*first_dense) - config.tie_tolerance;
-    for (auto it = first_dense; it != candidates.end() && primary(*it) >= cutoff; ++it)
-      if (dense(*it)) tied.push_back(*it);
-  }
-  // The tie-break. furthest: the point farthest from the hand. weighted: the point whose
-  // smoothing-neighbors nearest points score best on average. Along a flat front the weighted score
-  // changes by only (1 - w) per metre, so a point's own noise moves its maximum by several times that
-  // noise; the mean's noise is about 3 times smaller, its bias second order in the neighbourhood's size.
-  const auto tie_break = [&](std::uint32_t i) {
-    if (config.rule == TooltipRule::furthest) return points[i].squaredNorm();
-    double sum = 0.0;
-    const auto near = tree.knn(points[i], config.smoothing_neighbors);
-    for (const auto& n : near) sum += front(n.index);
-    return config.effector_weight * sum / static_cast<double>(near.size()) +
-           (1.0 - config.effector_weight) * points[i].norm();
-  };
+  const auto first_dense = std::find_if(candidates.begin(), candidates.end(), dense);
+  p.rejected_sparse = static_cast<int>(first_dense - candidates.begin());
+  if (first_dense == candidates.end()) return p;
+  const double cutoff = s[*first_dense] - config.tie_tolerance;
+  for (auto it = first_dense; it != candidates.end() && s[*it] >= cutoff; ++it)
+    if (dense(*it)) p.tied.push_back(*it);
+  // The tie-break. furthest: the distance from the hand. weighted: the original's score with the
+  // distance in front averaged over the smoothing-neighbors nearest points: along a flat front the
+  // score changes by only (1 - w) per metre, so a point's own noise would move the choice by several
+  // times that noise; the mean's noise is about 3 times smaller, its bias second order in the
+  // neighbourhood's size.
   double best = -std::numeric_limits<double>::infinity();
-  for (auto i : tied)
-    if (const double t = tie_break(i); t > best) best = t, chosen = i;
-  if (chosen == KdTree::npos)
-    throw MethodError(fmt::format("no tooltip: none of the {} effector-side points has more than {} "
-                                  "neighbours within {} m", candidates.size(), config.min_neighbors,
-                                  config.density_radius));
+  for (auto i : p.tied) {
+    double t = points[i].norm();
+    if (config.rule == TooltipRule::weighted) {
+      double sum = 0.0;
+      const auto near = tree.knn(points[i], config.smoothing_neighbors);
+      for (const auto& n : near) sum += front(n.index);
+      t = config.effector_weight * sum / static_cast<double>(near.size()) + (1.0 - config.effector_weight) * t;
+    }
+    p.tie_breaks.push_back(t);
+    if (t > best) best = t, p.chosen = i;
+  }
+  p.score = s[p.chosen];
+  return p;
+}
 
-  tip.surface_point = points[chosen];
-  tip.score = config.rule == TooltipRule::weighted ? weighted(chosen) : front(chosen);
-  tip.position_in_tool = tool_from_hand * (points[chosen] - frame.origin);
-  tip.position_in_tool.z() = 0.0;  // projected onto the symmetry plane
-  tip.position = frame.origin + frame.axes * tip.position_in_tool;
+// The point projected onto the frame's symmetry plane.
+Vec3 on_symmetry_plane(const Vec3& point, const ToolFrame& frame) {
+  return point - (point - frame.origin).dot(frame.symmetry_axis()) * frame.symmetry_axis();
+}
+
+// The frame with another symmetry plane through the handle axis: the effector axis signed, as the
+// frame's, towards the side the effector reaches farther.
+ToolFrame with_symmetry_plane(const Points& points, const ToolFrame& frame, const Vec3& normal) {
+  ToolFrame other = frame;
+  const Vec3 y = frame.handle_axis();
+  Vec3 x = y.cross(normal).normalized();
+  std::vector<double> forward, backward;
+  for (const auto& p : points)
+    if ((p - frame.origin).dot(y) < 0) forward.push_back((p - frame.origin).dot(x)), backward.push_back(-forward.back());
+  if (!forward.empty() && quantile(backward, 0.99) > quantile(forward, 0.99)) x = -x;
+  other.axes.col(0) = x;
+  other.axes.col(2) = x.cross(y);
+  return other;
+}
+
+// RMS distance of the k nearest points of `point` from their plane: the noise there.
+double local_noise(const KdTree& tree, const Vec3& point, int k) {
+  const auto near = tree.knn(point, std::max(k, 4));
+  const auto spread = scatter_of<3>(near.size(), [&](std::size_t j) { return tree.points()[near[j].index]; });
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(spread.scatter);
+  return std::sqrt(std::max(0.0, solver.eigenvalues()(0)) / static_cast<double>(near.size()));
+}
+
+}  // namespace
+
+Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config) {
+  const KdTree tree(points);
+  const Pick p = pick(points, tree, frame, config);
+  if (p.chosen == KdTree::npos)
+    throw MethodError(fmt::format("no tooltip: none of the {} effector-side points has more than {} "
+                                  "neighbours within {} m", p.candidates, config.min_neighbors,
+                                  config.density_radius));
+  Tooltip tip;
+  tip.candidates = p.candidates;
+  tip.rejected_sparse = p.rejected_sparse;
+  tip.tied = static_cast<int>(p.tied.size());
+  tip.surface_point = points[p.chosen];
+  tip.score = p.score;
+  tip.position = on_symmetry_plane(points[p.chosen], frame);
+  tip.position_in_tool = frame.axes.transpose() * (tip.position - frame.origin);
+  tip.position_in_tool.z() = 0.0;
+
+  // Uncertainty: the tied points whose tie-break is within 2 sigma of the best could as well have won
+  // under the measured noise. The tie-break's sigma: the noise itself for the distance from the hand;
+  // w times the noise over the square root of the neighbourhood for the averaged distance in front.
+  tip.noise_m = local_noise(tree, points[p.chosen], config.smoothing_neighbors);
+  const double sigma = config.rule == TooltipRule::furthest
+                           ? tip.noise_m
+                           : config.effector_weight * tip.noise_m / std::sqrt(std::max(1, config.smoothing_neighbors));
+  const double best = *std::max_element(p.tie_breaks.begin(), p.tie_breaks.end());
+  std::size_t other_tied = p.tied.size();  // the best of those farther than ambiguity-distance
+  for (std::size_t j = 0; j < p.tied.size(); ++j) {
+    if (p.tie_breaks[j] < best - 2 * sigma) continue;
+    const double d = (on_symmetry_plane(points[p.tied[j]], frame) - tip.position).norm();
+    tip.uncertainty_m = std::max(tip.uncertainty_m, d);
+    if (d > config.ambiguity_distance && (other_tied == p.tied.size() || p.tie_breaks[j] > p.tie_breaks[other_tied]))
+      other_tied = j;
+  }
+  // Alternatives: that point, and the rule's tip on every other symmetry plane that scored as well as
+  // the chosen one (a T, a square plate, a flat blade seen edge-on).
+  if (other_tied < p.tied.size())
+    tip.alternatives.push_back({on_symmetry_plane(points[p.tied[other_tied]], frame), frame.symmetry_axis(),
+                                frame.symmetry_score, "tied point"});
+  for (const auto& plane : frame.tied_planes) {
+    if (std::abs(plane.normal.dot(frame.symmetry_axis())) > std::cos(M_PI / 36)) continue;  // the chosen plane
+    const ToolFrame other = with_symmetry_plane(points, frame, plane.normal);
+    const Pick q = pick(points, tree, other, config);
+    if (q.chosen == KdTree::npos) continue;
+    tip.alternatives.push_back({on_symmetry_plane(points[q.chosen], other), other.symmetry_axis(), plane.score,
+                                "tied symmetry plane"});
+  }
+  for (const auto& a : tip.alternatives)
+    tip.ambiguous = tip.ambiguous || (a.position - tip.position).norm() > config.ambiguity_distance;
   return tip;
 }
 

@@ -9,10 +9,18 @@
 
 namespace toolinc {
 
+namespace {
+
+Json planes_json(const std::vector<SymmetryCandidate>& planes) {
+  Json json = Json::array();
+  for (const auto& c : planes) json.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
+  return json;
+}
+
+}  // namespace
+
 Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
-  Json candidates = Json::array();
-  for (const auto& c : frame.symmetry_candidates)
-    candidates.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
+  const Json candidates = planes_json(frame.symmetry_candidates);
   return {
       {"type", "tool_frame"},
       {"version", 1},
@@ -39,7 +47,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
           {"candidates_meaning", "the sweep about the handle axis, then the chosen plane"},
           {"across_handle_score", frame.across_handle_score},
           {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
-          {"candidates", candidates}}},
+          {"candidates", candidates},
+          {"tied_planes", planes_json(frame.tied_planes)}}},
         {"symmetry_plane_rule", frame.symmetry_plane_rule},
         {"handle_sign_rule", frame.handle_sign_rule},
         {"effector_sign_rule", frame.effector_sign_rule},
@@ -67,6 +76,28 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   ToolFrame frame;
   frame.axes = rotation;
   frame.origin = matrix.topRightCorner<3, 1>();
+  // The rule that chose the symmetry plane and the planes tied with it, when the file has them, so
+  // find-tooltip can say what they give.
+  const Json none;
+  const Json& diagnostics = json.contains("diagnostics") && json["diagnostics"].is_object() ? json["diagnostics"] : none;
+  if (diagnostics.contains("symmetry_plane_rule") && diagnostics["symmetry_plane_rule"].is_string())
+    frame.symmetry_plane_rule = diagnostics["symmetry_plane_rule"].get<std::string>();
+  const Json* tied = nullptr;
+  if (diagnostics.contains("symmetry") && diagnostics["symmetry"].is_object() &&
+      diagnostics["symmetry"].contains("tied_planes"))
+    tied = &diagnostics["symmetry"]["tied_planes"];
+  if (tied != nullptr) {
+    if (!tied->is_array()) throw InputError(path, "diagnostics.symmetry.tied_planes must be an array");
+    for (const auto& plane : *tied) {
+      const Vec3 normal = vector3_field(plane, "normal", path);
+      if (std::abs(normal.norm() - 1.0) > 1e-3 || std::abs(normal.dot(frame.handle_axis())) > 1e-3)
+        throw InputError(path, "diagnostics.symmetry.tied_planes: a normal is not a unit vector across the handle axis");
+      const auto number = [&](const char* key) {
+        return plane.contains(key) && plane[key].is_number() ? plane[key].get<double>() : 0.0;
+      };
+      frame.tied_planes.push_back({number("angle_deg"), normal, number("score")});
+    }
+  }
   return frame;
 }
 
@@ -140,6 +171,13 @@ Eigen::Matrix4d read_tool_pose(const std::string& path) {
 
 Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config) {
   const Eigen::Vector4d aa = axis_angle(frame.axes);
+  Json alternatives = Json::array();
+  for (const auto& a : tooltip.alternatives)
+    alternatives.push_back({{"position", to_json(a.position)},
+                            {"distance_from_chosen_m", (a.position - tooltip.position).norm()},
+                            {"symmetry_axis", to_json(a.symmetry_axis)},
+                            {"plane_score", a.plane_score},
+                            {"source", a.source}});
   return {
       {"type", "tooltip"},
       {"version", 1},
@@ -149,8 +187,22 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
       {"tool_frame", to_json(frame.hand_from_tool())},
       {"attach_tip_frame",
        {{"position", to_json(tooltip.position)}, {"axis_angle", {aa[0], aa[1], aa[2], aa[3]}}}},
+      {"tooltip_uncertainty_m", tooltip.uncertainty_m},
+      {"ambiguous", tooltip.ambiguous},
+      {"chosen_because",
+       std::string(config.rule == TooltipRule::weighted
+                       ? "best 0.8 x (in front of the effector plane) + 0.2 x (distance from the hand), the "
+                         "distance in front averaged over the point's neighbours, among the points tied within "
+                         "tie-tolerance"
+                       : "furthest in front of the effector plane, ties within tie-tolerance going to the point "
+                         "farthest from the hand") +
+           "; on the symmetry plane the frame chose: " + frame.symmetry_plane_rule},
+      {"alternatives", alternatives},
       {"diagnostics",
        {{"rule", to_string(config.rule)},
+        {"tied", tooltip.tied},
+        {"noise_m", tooltip.noise_m},
+        {"ambiguity_distance_m", config.ambiguity_distance},
         {"effector_weight", config.effector_weight},
         {"tie_tolerance", config.tie_tolerance},
         {"surface_point", to_json(tooltip.surface_point)},

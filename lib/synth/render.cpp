@@ -33,6 +33,9 @@ Colour family_colour(ToolFamily family) {
     case ToolFamily::l_stick: return bgr(140, 60, 170);
     case ToolFamily::t_bar: return bgr(30, 170, 180);
     case ToolFamily::flat_top: return bgr(200, 50, 110);
+    case ToolFamily::blade: return bgr(120, 120, 120);
+    case ToolFamily::square_plate: return bgr(60, 60, 60);
+    case ToolFamily::cross: return bgr(180, 180, 170);
   }
   return bgr(128, 128, 128);
 }

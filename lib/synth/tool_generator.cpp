@@ -125,6 +125,7 @@ struct Shell {
   // Length of the mid-surface curve over |z| <= half_width (closed form for a parabola).
   double arc_length() const {
     const double k = 2.0 * depth / (half_width * half_width), w = half_width;
+    if (k == 0.0) return 2.0 * w;  // a flat blade
     return w * std::sqrt(1.0 + k * k * w * w) + std::asinh(k * w) / k;
   }
 };
@@ -257,6 +258,17 @@ std::vector<Part> tool_parts(const ToolShape& shape) {
     case ToolFamily::flat_top:
       return {cylinder(hand, corner, r),
               box(Vec3(-0.5 * length, far_y - kPlateThickness, -half_width), Vec3(0.5 * length, far_y, half_width))};
+    case ToolFamily::blade: {
+      const double blade_length = std::max(shape.head_height, kMinBladeLength);
+      return {cylinder(hand, on_handle_axis(head_y), r),
+              blade({head_y - blade_length, head_y, half_width, 0.0, kBladeHalfThickness})};
+    }
+    case ToolFamily::square_plate:
+      return {cylinder(hand, corner, r),
+              box(Vec3(-0.5 * length, far_y - kPlateThickness, -0.5 * length), Vec3(0.5 * length, far_y, 0.5 * length))};
+    case ToolFamily::cross:
+      return {cylinder(hand, corner, r), cylinder(Vec3(-0.5 * length, far_y, 0.0), Vec3(0.5 * length, far_y, 0.0), r),
+              cylinder(Vec3(0.0, far_y, -0.5 * length), Vec3(0.0, far_y, 0.5 * length), r)};
   }
   throw std::invalid_argument("unknown tool family");
 }
@@ -312,8 +324,15 @@ std::vector<ToolFamily> all_families() {
           ToolFamily::shovel, ToolFamily::l_stick, ToolFamily::t_bar, ToolFamily::flat_top};
 }
 
+std::vector<ToolFamily> real_shape_families() {
+  return {ToolFamily::blade, ToolFamily::square_plate, ToolFamily::cross};
+}
+
 std::string to_string(ToolFamily family) {
   switch (family) {
+    case ToolFamily::blade: return "blade";
+    case ToolFamily::square_plate: return "square-plate";
+    case ToolFamily::cross: return "cross";
     case ToolFamily::stick: return "stick";
     case ToolFamily::hoe: return "hoe";
     case ToolFamily::hook: return "hook";
@@ -328,7 +347,9 @@ std::string to_string(ToolFamily family) {
 
 ToolFamily family_from_string(const std::string& name) {
   std::string known;
-  for (ToolFamily family : all_families()) {
+  std::vector<ToolFamily> families = all_families();
+  for (ToolFamily family : real_shape_families()) families.push_back(family);
+  for (ToolFamily family : families) {
     if (to_string(family) == name) return family;
     known += (known.empty() ? "" : ", ") + to_string(family);
   }
@@ -339,7 +360,10 @@ ToolSymmetry symmetry_of(ToolFamily family) {
   switch (family) {
     case ToolFamily::stick: return ToolSymmetry::axial;
     case ToolFamily::t_bar:
-    case ToolFamily::flat_top: return ToolSymmetry::front_back;
+    case ToolFamily::flat_top:
+    case ToolFamily::blade: return ToolSymmetry::front_back;
+    case ToolFamily::square_plate:
+    case ToolFamily::cross: return ToolSymmetry::fourfold;
     default: return ToolSymmetry::mirror;
   }
 }
@@ -396,6 +420,16 @@ ToolShape default_shape(ToolFamily family) {
       shape.handle_length = 0.22;
       shape.head_length = 0.10;
       shape.head_width = 0.05;
+      break;
+    case ToolFamily::blade:  // a flat spatula: 0.08 wide, 0.10 long, 4 mm thick; 0.28 long
+      shape.handle_length = 0.18;
+      shape.head_width = 0.08;
+      shape.head_height = 0.10;
+      break;
+    case ToolFamily::square_plate:  // 0.08 x 0.08 plate across the handle's end
+    case ToolFamily::cross:         // two 0.10 bars crossing at the handle's end
+      shape.handle_length = 0.22;
+      shape.head_length = family == ToolFamily::cross ? 0.10 : 0.08;
       break;
   }
   return shape;

@@ -76,6 +76,8 @@ struct ToolFrame {
   double handle_rms = 0.0;                // m, RMS radial residual of the handle points
   bool handle_cylinder = true;            // false when the handle points are not a cylinder surface
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
+  std::vector<SymmetryCandidate> tied_planes;  // every basin of the sweep scoring within the tie margin of
+                                               // the best, refined; the rules above chose one of them
   double symmetry_score = 1.0;           // the chosen plane's score
   double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
   std::string symmetry_plane_rule;

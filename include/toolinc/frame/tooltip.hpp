@@ -26,6 +26,17 @@ struct TooltipConfig {
   double density_radius = 0.02;  // m: a candidate needs more than min_neighbors points within this,
   int min_neighbors = 20;        //    so isolated outliers are never the tooltip (the original's check)
   double hand_radius = 0.06;     // m: points this close to the hand origin are ignored
+  double ambiguity_distance = 0.01; // m: an alternative tip this far from the chosen one makes the
+                                    //    tooltip ambiguous (the accuracy a tool's use needs)
+};
+
+// Another tip the rule could have given: on another symmetry plane that scored as well as the chosen
+// one, or another point tied with the chosen one on the same plane.
+struct TooltipAlternative {
+  Vec3 position = Vec3::Zero();       // hand frame, on its symmetry plane
+  Vec3 symmetry_axis = Vec3::Zero();  // the plane's normal
+  double plane_score = 0.0;           // the plane's symmetry score (0 perfect)
+  std::string source;                 // "tied symmetry plane" or "tied point"
 };
 
 struct Tooltip {
@@ -35,6 +46,12 @@ struct Tooltip {
   double score = 0.0;
   int candidates = 0;                    // effector-side points considered
   int rejected_sparse = 0;               // better-scoring candidates rejected by the density check
+  int tied = 0;                          // dense candidates scoring within tie-tolerance of the best
+  double noise_m = 0.0;                  // RMS distance of the tip's neighbours from their plane
+  double uncertainty_m = 0.0;            // how far the tip would move under that noise: the farthest
+                                         // tied point whose tie-break is within 2 sigma of the best
+  std::vector<TooltipAlternative> alternatives;
+  bool ambiguous = false;                // an alternative lies farther than ambiguity-distance away
 };
 
 // Throws MethodError when no effector-side point passes the density check.

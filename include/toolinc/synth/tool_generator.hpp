@@ -11,7 +11,9 @@
 
 namespace toolinc {
 
-enum class ToolFamily { stick, hoe, hook, rake, shovel, l_stick, t_bar, flat_top };
+// The first eight are the regression set (all_families); blade, square-plate and cross are shapes of
+// real tools those never had (real_shape_families): a flat spatula, a square plate, a four-armed star.
+enum class ToolFamily { stick, hoe, hook, rake, shovel, l_stick, t_bar, flat_top, blade, square_plate, cross };
 
 // Which symmetries besides the mirror about z = 0 a family has; ground truth comparisons use it.
 enum class ToolSymmetry {
@@ -34,6 +36,7 @@ struct ToolShape {
 };
 
 std::vector<ToolFamily> all_families();
+std::vector<ToolFamily> real_shape_families();
 std::string to_string(ToolFamily family);
 // Throws std::invalid_argument listing the known names.
 ToolFamily family_from_string(const std::string& name);
