@@ -66,8 +66,8 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, c
     return errors;
   }
   for (const auto& view : merged.views) errors.views_rejected += !view.accepted;
-  errors.model_median_m =
-      median_nearest_distance(merged.model.points, transform_points(canonical, config.hand_from_canonical));
+  errors.model = distance_profile(merged.model.points, transform_points(canonical, config.hand_from_canonical));
+  errors.model_median_m = errors.model.median_m;
   errors.tool = frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame,
                                          pipeline.tooltip);
   return errors;

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
 #include "toolinc/registration/merge_views.hpp"
@@ -38,6 +39,7 @@ struct PipelineConfig {
 struct SessionErrors {
   int views_rejected = 0;         // by crop-cloud (too few points) or merge-views
   double model_median_m = 0.0;    // median distance from the merged model to the true surface
+  DistanceProfile model;          // the merged model's whole distance profile to the true surface
   HeldToolErrors tool;            // of the frame and tooltip; failure also says when the merge failed
 };
 
