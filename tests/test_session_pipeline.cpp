@@ -16,7 +16,9 @@
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
 #include "toolinc/synth/evaluation.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/synth/session_simulator.hpp"
+#include "toolinc/synth/tool_generator.hpp"
 
 using namespace toolinc;
 using namespace toolinc::testing;
@@ -131,11 +133,18 @@ TEST(SessionPipeline, EvaluateSessionsReportsThePipelinesErrors) {
   expect_failure_left_nothing(unknown, "spoon", dir / "bad.json", dir);
 }
 
-TEST(SessionPipeline, GrossErrorsRejectedRestMerged) {
-  // A view recorded with a grossly wrong hand pose is rejected either by crop-cloud (its points fall
-  // outside the hand-frame box: too few left) or by merge-views (implausible correction or poor fit).
+namespace {
+
+// A view recorded with a grossly wrong hand pose is rejected either by crop-cloud (its points fall
+// outside the hand-frame box: too few left) or by merge-views (implausible correction or poor fit).
+// On SGBM sessions crop may also reject a good view (the closest blob there was a wrong-match patch or
+// only the tool's nearest part: too few points), and merge-views one that fits poorly: those views are
+// lost, but never is the bad one merged, and at least three views are.
+void expect_gross_errors_rejected(StereoModel stereo, const CropConfig& crop = {}) {
+  const bool all_good_kept = stereo == StereoModel::ideal;
   for (std::uint32_t g = 0; g < 4; ++g) {
     SessionSimulatorConfig config = family_session(g % 2 ? ToolFamily::hook : ToolFamily::shovel, 200 + g);
+    config.stereo = stereo;
     const std::size_t bad = 1 + g % 4;
     config.gross_errors.push_back({bad, g < 2 ? 0.15 : 0.0, g < 2 ? 0.0 : 60.0});
     const SimulatedSession session = simulate_session(config);
@@ -143,17 +152,80 @@ TEST(SessionPipeline, GrossErrorsRejectedRestMerged) {
     std::vector<std::size_t> index;
     for (std::size_t v = 0; v < session.views.size(); ++v) {
       try {
-        cropped.push_back(crop_view(session.info, session.info.views[v], session.views[v]).cloud);
+        cropped.push_back(crop_view(session.info, session.info.views[v], session.views[v], crop).cloud);
         index.push_back(v);
       } catch (const MethodError& e) {
-        EXPECT_EQ(v, bad) << "session " << g << ": " << e.what();
+        if (all_good_kept) EXPECT_EQ(v, bad) << "session " << g << ": " << e.what();
       }
     }
     const MergeResult merged = merge_views(cropped);
-    for (std::size_t k = 0; k < merged.views.size(); ++k)
-      EXPECT_EQ(merged.views[k].accepted, index[k] != bad) << "session " << g << " view " << index[k] << ": "
-                                                          << merged.views[k].reason;
+    int accepted = 0;
+    for (std::size_t k = 0; k < merged.views.size(); ++k) {
+      accepted += merged.views[k].accepted;
+      if (all_good_kept || index[k] == bad)
+        EXPECT_EQ(merged.views[k].accepted, index[k] != bad) << "session " << g << " view " << index[k] << ": "
+                                                            << merged.views[k].reason;
+    }
+    EXPECT_GE(accepted, 3) << "session " << g;
   }
+}
+
+// crop's settings for block-matched (sgbm) sessions, as evaluate-sessions --stereo sgbm uses them.
+CropConfig sgbm_crop() {
+  CropConfig crop;
+  crop.edge_radius_px = SfmStereoConfig{}.block_size / 2;
+  return crop;
+}
+
+}  // namespace
+
+TEST(SessionPipeline, GrossErrorsRejectedRestMerged) { expect_gross_errors_rejected(StereoModel::ideal); }
+
+TEST(SessionPipeline, SgbmGrossErrorsRejectedRestMerged) {
+  expect_gross_errors_rejected(StereoModel::sgbm, sgbm_crop());
+}
+
+TEST(SessionPipeline, SgbmSessionsCompleteAndDepthEdgesAreDropped) {
+  // Every family, two grasps, SGBM stereo: every session merges, and crop's depth-edge filter removes
+  // more far-off (smeared, flying) points than it costs good ones. Floors below the measured (README:
+  // model median 3.1 mm over 320 sessions), about the real reconstructions' 3.4 mm.
+  PipelineConfig pipeline;
+  pipeline.crop = sgbm_crop();
+  std::vector<double> model_errors;
+  int far_without = 0, far_with = 0, points_without = 0, points_with = 0;
+  for (ToolFamily family : all_families())
+    for (std::uint32_t g = 0; g < 2; ++g) {
+      SessionSimulatorConfig config = family_session(family, 100 + g);
+      config.stereo = StereoModel::sgbm;
+      const SessionErrors e = evaluate_simulated_session(config, pipeline);
+      ASSERT_EQ(e.tool.failure, "") << to_string(family) << " grasp " << g;
+      model_errors.push_back(e.model_median_m);
+      std::printf("%-9s grasp %u: model %.1f mm from the truth (p90 %.1f mm), tooltip error %.1f mm\n",
+                  to_string(family).c_str(), g, 1000 * e.model_median_m, 1000 * e.model.p90_m, 1000 * e.tool.tooltip_m);
+      if (g > 0) continue;
+      // One session per family without kinematic error: each cropped view against the true surface.
+      config.kinematic_error_m = config.kinematic_error_deg = 0;
+      const SimulatedSession session = simulate_session(config);
+      const Points truth = transform_points(generate_tool(config.shape, 1).points, config.hand_from_canonical);
+      for (std::size_t v = 0; v < session.views.size(); ++v) {
+        for (const bool filter : {false, true}) {
+          const Points cropped =
+              crop_view(session.info, session.info.views[v], session.views[v], filter ? pipeline.crop : CropConfig{})
+                  .cloud.points;
+          const std::vector<double> d = nearest_distances(cropped, truth);
+          const int far = static_cast<int>(std::count_if(d.begin(), d.end(), [](double x) { return x > 0.005; }));
+          (filter ? far_with : far_without) += far;
+          (filter ? points_with : points_without) += static_cast<int>(cropped.size());
+        }
+      }
+    }
+  std::printf("beyond 5 mm: %d of %d points without the depth-edge filter, %d of %d with it\n", far_without,
+              points_without, far_with, points_with);
+  // Measured: 29 % fewer far points, 45 % fewer near ones: most far points are not at depth edges but
+  // on the plain tool's surface, matched off by a fraction of a pixel (the README's realism section).
+  EXPECT_LT(far_with, 0.8 * far_without);
+  EXPECT_GT(points_with - far_with, 0.5 * (points_without - far_without));
+  EXPECT_LT(median(model_errors), 0.004);
 }
 
 TEST(SessionPipeline, CommandsFailCleanlyOnBadInput) {

@@ -46,7 +46,9 @@ struct MergeResult {
 };
 
 // Views in the hand frame, with their viewpoints if known (carried into the model with the corrections).
-// Throws MethodError when the reference (first) view has fewer than min_points points.
+// The first view is the reference, unless fewer than half the views fit onto it: then the view that the
+// most others fit (results in the input's order all the same). Throws MethodError when the first view
+// has fewer than min_points points.
 MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
 }  // namespace toolinc

@@ -19,6 +19,15 @@ struct CropConfig {
   int outlier_neighbors = 10;     // statistical outlier removal: k ...
   double outlier_std = 3.0;       // ... and the deviations allowed (the original's k 10, 3 sigma)
   int min_points = 300;           // fewer left is a failure (exit 3)
+  // Depth edges: block matching smears the nearer surface's disparity up to half its block past a depth
+  // edge (fattening) and leaves pixels between the two depths (flying pixels). A mask pixel is dropped
+  // when a pixel within edge_radius_px of it has a disparity lower by more than edge_jump_px per pixel of
+  // their distance (a surface at 45 cm seen 85 degrees from frontal changes by 1.7 px per pixel), or
+  // none (no match beside a matched pixel is an occlusion or a wrong-match edge). 0 (default) disables:
+  // it is for block-matched disparity (the robot's: 3, SFM's SGBM block half-size 7 / 2); on disparity
+  // without fattening it only shaves the tool's true edges, tip included.
+  int edge_radius_px = 0;         // px
+  double edge_jump_px = 2.0;      // px of disparity per pixel
   bool flood = false;             // grow the region from the blob's centre through 3D continuity
   double flood_distance = 0.004;  // m: neighbouring points closer than this are connected (SFM's Flood3D)
   BlobDetectorConfig blob;        // used when the view has no blob.png
@@ -28,7 +37,7 @@ struct CropResult {
   PointCloud cloud;              // hand frame, with the left image's colours
   std::string mask_source;       // "blob.png" or "closest blob on the disparity"
   std::string points_source;     // "points.pcd" or "disparity reprojection (approximate)"
-  int mask_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
+  int mask_pixels = 0, edge_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
 };
 
 // Throws MethodError when the mask is empty or fewer than min_points remain.
