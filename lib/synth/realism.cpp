@@ -13,25 +13,20 @@ DistanceProfile reconstruction_profile(const Points& model, const Points& recons
   return distance_profile(reconstruction, transform_points(model, pose.best.hand_from_model));
 }
 
-std::vector<DistanceProfile> simulated_profiles(const PointCloud& model, const std::string& name, StereoModel stereo,
-                                                std::uint32_t first_seed, int seeds, int& failed) {
+std::vector<SessionErrors> simulated_sessions(const PointCloud& model, const std::string& name, StereoModel stereo,
+                                              std::uint32_t first_seed, int seeds) {
   SessionSimulatorConfig config;
   config.model = model;
   config.model_name = name;
   config.model_symmetry = measure_symmetry(model.points);
   config.stereo = stereo;
-  std::vector<DistanceProfile> profiles;
-  failed = 0;
+  std::vector<SessionErrors> sessions;
   for (int s = 0; s < seeds; ++s) {
     config.seed = first_seed + static_cast<std::uint32_t>(s);
     config.hand_from_canonical = exploration_grasp(config.seed);
-    const SessionErrors errors = evaluate_simulated_session(config);
-    if (errors.model.median_m > 0)
-      profiles.push_back(errors.model);
-    else
-      ++failed;  // the merge failed: no model to measure
+    sessions.push_back(evaluate_simulated_session(config));
   }
-  return profiles;
+  return sessions;
 }
 
 }  // namespace toolinc

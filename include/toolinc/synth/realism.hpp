@@ -9,6 +9,7 @@
 
 #include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/core/point_cloud.hpp"
+#include "toolinc/synth/evaluation.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
 namespace toolinc {
@@ -17,10 +18,11 @@ namespace toolinc {
 // reconstruction point's distance to the aligned model. Throws MethodError when no pose is found.
 DistanceProfile reconstruction_profile(const Points& model, const Points& reconstruction);
 
-// Simulates a session of `model` (its measured symmetry, simulate-session's grasp for each seed, the
-// given stereo model), crops and merges it as evaluate-sessions does and returns the merged model's
-// profile to the true surface, one per seed whose session merged; `failed` counts the others.
-std::vector<DistanceProfile> simulated_profiles(const PointCloud& model, const std::string& name, StereoModel stereo,
-                                                std::uint32_t first_seed, int seeds, int& failed);
+// Sessions of `model` (its measured symmetry, simulate-session's grasp for each seed, the given stereo
+// model) through the whole pipeline at its defaults (crop without the depth-edge filter, as the original
+// pipeline that made the real reconstructions): per seed the merged model's profile to the true surface
+// and the frame and tooltip errors.
+std::vector<SessionErrors> simulated_sessions(const PointCloud& model, const std::string& name, StereoModel stereo,
+                                              std::uint32_t first_seed, int seeds);
 
 }  // namespace toolinc
