@@ -181,6 +181,25 @@ CropConfig sgbm_crop() {
 
 TEST(SessionPipeline, GrossErrorsRejectedRestMerged) { expect_gross_errors_rejected(StereoModel::ideal); }
 
+TEST(SessionPipeline, EvaluateSessionsOnSgbmSessions) {
+  // evaluate-sessions --stereo sgbm reports what the library measures on SGBM sessions with crop's
+  // depth-edge filter, and differs from the ideal sessions' figures.
+  const auto dir = scratch_dir("evaluate-sessions-sgbm");
+  const ToolRun run = run_tool("evaluate-sessions", "-q --stereo sgbm --families hook --first-seed 100 --grasps 1 -o " +
+                                                        (dir / "sgbm.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json session = read_json((dir / "sgbm.json").string())["sessions"][0];
+  SessionSimulatorConfig config = family_session(ToolFamily::hook, 100);
+  config.stereo = StereoModel::sgbm;
+  PipelineConfig pipeline;
+  pipeline.crop = sgbm_crop();
+  const SessionErrors e = evaluate_simulated_session(config, pipeline);
+  EXPECT_EQ(session["failure"], e.tool.failure);
+  EXPECT_EQ(session["model_median_m"].get<double>(), e.model_median_m);
+  EXPECT_EQ(session["tooltip_error_m"].get<double>(), e.tool.tooltip_m);
+  EXPECT_NE(e.model_median_m, evaluate_simulated_session(family_session(ToolFamily::hook, 100)).model_median_m);
+}
+
 TEST(SessionPipeline, SgbmGrossErrorsRejectedRestMerged) {
   expect_gross_errors_rejected(StereoModel::sgbm, sgbm_crop());
 }
