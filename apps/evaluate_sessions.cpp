@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   cli.add_option("--stereo", stereo,
                  "The sessions' stereo model, as simulate-session --stereo (sgbm: crop drops depth edges, "
-                 "crop-cloud --edge-radius 3)")
+                 "crop-cloud --edge-radius 2)")
       ->check(CLI::IsMember({"ideal", "sgbm"}))
       ->capture_default_str();
   cli.add_option("-j,--jobs", jobs, "Sessions evaluated in parallel (the results do not depend on it)")
@@ -58,8 +58,8 @@ int main(int argc, char** argv) {
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
   return command.run(argc, argv, [&] {
-    // Block-matched disparity is fattened at depth edges by up to the block's half-size.
-    if (stereo == "sgbm") pipeline.crop.edge_radius_px = toolinc::SfmStereoConfig{}.block_size / 2;
+    // Block-matched disparity is fattened at depth edges.
+    if (stereo == "sgbm") pipeline.crop.edge_radius_px = toolinc::kSgbmEdgeRadiusPx;
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));

@@ -33,7 +33,7 @@ const SimulatedSession& sample_session(StereoModel stereo = StereoModel::ideal) 
 // crop's settings per stereo model, as evaluate-sessions uses them.
 CropConfig crop_config(StereoModel stereo) {
   CropConfig crop;
-  if (stereo == StereoModel::sgbm) crop.edge_radius_px = SfmStereoConfig{}.block_size / 2;
+  if (stereo == StereoModel::sgbm) crop.edge_radius_px = kSgbmEdgeRadiusPx;
   return crop;
 }
 
