@@ -41,7 +41,7 @@ struct ViewMerge {
 
 struct MergeResult {
   PointCloud model;                 // in the hand frame estimated as the mean of the accepted views'
-  Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the first view's
+  Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the reference view's
   std::vector<ViewMerge> views;
 };
 
