@@ -31,6 +31,11 @@ int main(int argc, char** argv) {
   cli.add_option("--outlier-std", config.outlier_std, "Statistical outlier removal: deviations")->capture_default_str();
   cli.add_option("--min-points", config.min_points, "Fewer points left is a failure (exit 3)")->capture_default_str();
   cli.add_flag("--flood", config.flood, "Keep only the region 3D-connected to the blob's centre");
+  cli.add_option("--edge-radius", config.edge_radius_px,
+                 "px: drop mask pixels this close to a depth edge (block-matched disparity: 2 for SFM's SGBM; 0 off)")
+      ->capture_default_str();
+  cli.add_option("--edge-jump", config.edge_jump_px, "px of disparity per pixel that make a depth edge")
+      ->capture_default_str();
   cli.add_option("--flood-distance", config.flood_distance, "3D continuity of the flood (m)")->capture_default_str();
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");
   return command.run(argc, argv, [&] {

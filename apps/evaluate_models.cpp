@@ -1,20 +1,70 @@
-// evaluate-models MODEL... : accuracy of estimate-frame and find-tooltip on canonical tool models (e.g.
-// CAD models), each held with random grasps, the hand's points removed and stereo-like noise added.
+// evaluate-models MODEL|FOLDER... [--kinds MAP.json] : accuracy of estimate-frame and find-tooltip on
+// canonical tool models (e.g. CAD models), each held with random grasps, the hand's points removed and
+// stereo-like noise added; per model and per kind of tool, each rate with its 95 % (Wilson) interval.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
+#include "toolinc/synth/model_kinds.hpp"
+
+namespace {
+
+struct Tally {
+  int cases = 0, failed = 0, within_10 = 0, handle_within_3 = 0, left_handed = 0, salient = 0, sign_right = 0;
+  std::vector<double> tips;
+  double worst_handle = 0.0;
+
+  void add(const toolinc::HeldToolErrors& e, bool mirror) {
+    ++cases;
+    if (!e.failure.empty()) {
+      ++failed;
+      return;
+    }
+    tips.push_back(e.tooltip_m);
+    within_10 += e.tooltip_m <= 0.010;
+    handle_within_3 += e.handle_axis_deg <= 3.0;
+    left_handed += !e.right_handed;
+    worst_handle = std::max(worst_handle, e.handle_axis_deg);
+    if (mirror) ++salient, sign_right += e.effector_sign_right;
+  }
+};
+
+void print_row(std::FILE* out, const std::string& name, const std::string& detail, const Tally& t) {
+  const double worst = t.tips.empty() ? NAN : *std::max_element(t.tips.begin(), t.tips.end());
+  std::fprintf(out, "%-16s %-10s %6d %24s %24s %7.1fmm %7.1fmm %7s\n", name.c_str(), detail.c_str(), t.cases,
+               toolinc::rate_text(t.within_10, t.cases).c_str(), toolinc::rate_text(t.handle_within_3, t.cases).c_str(),
+               1000 * toolinc::median(t.tips), 1000 * worst,
+               t.salient ? (std::to_string(t.sign_right) + "/" + std::to_string(t.salient)).c_str() : "-");
+}
+
+toolinc::Json tally_json(const std::string& key, const std::string& name, const Tally& t) {
+  return {{key, name},
+          {"cases", t.cases},
+          {"failed", t.failed},
+          {"tooltip_within_10mm", toolinc::rate_json(name, t.within_10, t.cases)},
+          {"handle_axis_within_3deg", toolinc::rate_json(name, t.handle_within_3, t.cases)},
+          {"left_handed", t.left_handed},
+          {"worst_handle_axis_deg", t.worst_handle},
+          {"median_tooltip_m", toolinc::median(t.tips)},
+          {"worst_tooltip_m", t.tips.empty() ? NAN : *std::max_element(t.tips.begin(), t.tips.end())},
+          {"effector_sign_right", t.sign_right},
+          {"salient_cases", t.salient}};
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   toolinc::Command command("evaluate-models", "Frame and tooltip accuracy on canonical models under random grasps",
                            {"estimate-frame", "find-tooltip", "evaluate-models"});
-  std::vector<std::string> models;
+  std::vector<std::string> inputs;
+  std::string kinds_file;
   int grasps = 20;
   std::uint32_t seed = 1;
   double hand_radius = 0.06, noise = 0.0015;
@@ -22,64 +72,68 @@ int main(int argc, char** argv) {
   toolinc::TooltipConfig tooltip_config;
   std::string rule;  // add_tooltip_options sets its default
   auto& cli = command.cli();
-  cli.add_option("models", models, "Canonical models (handle from the origin along -Y, effector +X)")->required();
+  cli.add_option("models", inputs, "Canonical models (handle from the origin along -Y, effector +X), or folders of them")
+      ->required();
+  cli.add_option("--kinds", kinds_file,
+                 "JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters (hok -> hook, ...)");
   cli.add_option("--grasps", grasps, "Random grasps per model")->capture_default_str()->check(CLI::PositiveNumber);
   cli.add_option("--seed", seed, "Seed of the grasps and noise")->capture_default_str();
   cli.add_option("--noise", noise, "Gaussian noise sigma per coordinate (m)")->capture_default_str();
-  command.add_output("Per-model results JSON (- for stdout)", false);
+  command.add_output("Per-model and per-kind results JSON (- for stdout)", false);
   toolinc::add_tool_frame_options(cli, frame_config);
   toolinc::add_tooltip_options(cli, tooltip_config, rule);
   return command.run(argc, argv, [&] {
     tooltip_config.rule = toolinc::tooltip_rule_from_string(rule);
     hand_radius = tooltip_config.hand_radius = frame_config.hand_radius;
-    toolinc::Json results = toolinc::Json::array();
-    int cases = 0, within_10 = 0, beyond_20 = 0, left_handed = 0, handle_over_3 = 0, sign_wrong = 0, salient = 0,
-        failed = 0;
+    const toolinc::KindMap kinds = kinds_file.empty() ? toolinc::KindMap{} : toolinc::read_kind_map(kinds_file);
+    const std::vector<std::string> models = toolinc::expand_model_paths(inputs);
     // The table goes to standard output, unless the JSON does.
     std::FILE* table = command.output() == "-" ? stderr : stdout;
-    std::fprintf(table, "%-16s %-10s %7s %9s %9s %9s %6s\n", "model", "symmetry", "cases", "handle<=", "tip med", "tip max",
-                "sign");
+    const auto header = [&](const char* first, const char* second) {
+      std::fprintf(table, "%-16s %-10s %6s %24s %24s %9s %9s %7s\n", first, second, "cases", "tip<=10mm (95% int.)",
+                   "handle<=3deg (95% int.)", "tip med", "tip max", "sign");
+    };
+    header("model", "symmetry");
+    toolinc::Json per_model = toolinc::Json::array(), per_kind = toolinc::Json::array();
+    std::map<std::string, Tally> by_kind;
+    Tally all;
     for (const auto& path : models) {
       const auto model = toolinc::load_cloud(path);
       const auto symmetry = toolinc::measure_symmetry(model.points);
-      const std::string name = toolinc::to_string(symmetry);
+      const bool mirror = symmetry == toolinc::ToolSymmetry::mirror;
+      const std::string kind = toolinc::model_kind(path, kinds);
       toolinc::Rng rng(seed);
-      std::vector<double> tips;
-      double worst_handle = 0.0;
-      int signs = 0, model_failed = 0;
+      Tally tally;
       for (int g = 0; g < grasps; ++g) {
         const Eigen::Matrix4d grasp = toolinc::random_grasp({}, rng);
         const auto e = toolinc::evaluate_held_tool(model.points, symmetry, grasp, hand_radius, noise, rng,
                                                    frame_config, tooltip_config);
-        ++cases;
-        if (!e.failure.empty()) {
-          ++failed, ++model_failed;
-          spdlog::warn("{} grasp {}: {}", path, g, e.failure);
-          continue;
-        }
-        tips.push_back(e.tooltip_m);
-        worst_handle = std::max(worst_handle, e.handle_axis_deg);
-        left_handed += !e.right_handed;
-        handle_over_3 += e.handle_axis_deg > 3.0;
-        within_10 += e.tooltip_m <= 0.010;
-        beyond_20 += e.tooltip_m > 0.020;
-        signs += e.effector_sign_right;
+        if (!e.failure.empty()) spdlog::warn("{} grasp {}: {}", path, g, e.failure);
+        tally.add(e, mirror), by_kind[kind].add(e, mirror), all.add(e, mirror);
       }
-      if (symmetry == toolinc::ToolSymmetry::mirror) salient += static_cast<int>(tips.size()), sign_wrong += static_cast<int>(tips.size()) - signs;
-      const double median = toolinc::median(tips);
-      const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
       const std::string base = path.substr(path.find_last_of('/') + 1);
-      std::fprintf(table, "%-16s %-10s %7d %7.2f° %7.1fmm %7.1fmm %6s\n", base.c_str(), name.c_str(), grasps, worst_handle, 1000 * median,
-                  1000 * worst, symmetry == toolinc::ToolSymmetry::mirror ? (std::to_string(signs) + "/" + std::to_string(tips.size())).c_str() : "-");
-      results.push_back({{"model", path}, {"symmetry", name}, {"cases", grasps}, {"failed", model_failed},
-                         {"worst_handle_axis_deg", worst_handle}, {"median_tooltip_m", median}, {"worst_tooltip_m", worst},
-                         {"effector_sign_right", signs}});
+      print_row(table, base, toolinc::to_string(symmetry), tally);
+      toolinc::Json row = tally_json("model", path, tally);
+      row["kind"] = kind;
+      row["symmetry"] = toolinc::to_string(symmetry);
+      per_model.push_back(row);
     }
-    std::fprintf(table, "\nall: %d cases, %d failed; right-handed %d/%d; handle axis > 3 deg: %d; effector sign wrong: %d of %d "
-                "salient; tooltip within 10 mm: %.1f%%, beyond 20 mm: %d\n",
-                cases, failed, cases - failed - left_handed, cases - failed, handle_over_3, sign_wrong, salient,
-                100.0 * within_10 / std::max(1, cases), beyond_20);
+    std::fprintf(table, "\n");
+    header("kind", "");
+    for (const auto& [kind, tally] : by_kind) {
+      print_row(table, kind, "", tally);
+      per_kind.push_back(tally_json("kind", kind, tally));
+    }
+    print_row(table, "all", "", all);
+    std::fprintf(table, "\nall: %d cases, %d failed; right-handed %d/%d; tooltip within 10 mm %s; handle axis within "
+                 "3 deg %s; effector sign right %d of %d salient\n", all.cases, all.failed,
+                 all.cases - all.failed - all.left_handed, all.cases - all.failed,
+                 toolinc::rate_text(all.within_10, all.cases).c_str(),
+                 toolinc::rate_text(all.handle_within_3, all.cases).c_str(), all.sign_right, all.salient);
     if (!command.output().empty())
-      toolinc::write_json(command.output(), {{"type", "model_evaluation"}, {"version", 1}, {"models", results}});
+      toolinc::write_json(command.output(), {{"type", "model_evaluation"}, {"version", 2}, {"grasps", grasps},
+                                             {"seed", seed}, {"noise_m", noise}, {"hand_radius_m", hand_radius},
+                                             {"models", per_model}, {"kinds", per_kind},
+                                             {"all", tally_json("kind", "all", all)}});
   });
 }

@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   double tip_tolerance = 0.010;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
-  std::string rule;  // add_tooltip_options sets its default
+  std::string rule, stereo = "ideal";  // add_tooltip_options sets rule's default
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
   cli.add_option("--first-seed", first_seed, "Seed of the first grasp; grasp g uses first-seed + g")
@@ -46,6 +46,11 @@ int main(int argc, char** argv) {
   cli.add_option("--tip-tolerance", tip_tolerance, "m: a tooltip this close to the truth counts as right")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cli.add_option("--stereo", stereo,
+                 "The sessions' stereo model, as simulate-session --stereo (sgbm: crop drops depth edges, "
+                 "crop-cloud --edge-radius 2)")
+      ->check(CLI::IsMember({"ideal", "sgbm"}))
+      ->capture_default_str();
   cli.add_option("-j,--jobs", jobs, "Sessions evaluated in parallel (the results do not depend on it)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 64u));
@@ -53,6 +58,8 @@ int main(int argc, char** argv) {
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
   return command.run(argc, argv, [&] {
+    // Block-matched disparity is fattened at depth edges.
+    if (stereo == "sgbm") pipeline.crop.edge_radius_px = toolinc::kSgbmEdgeRadiusPx;
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));
@@ -67,8 +74,9 @@ int main(int argc, char** argv) {
     std::mutex progress_mutex;
     const auto worker = [&] {
       for (std::size_t i; (i = next++) < cases.size();) {
-        cases[i].errors =
-            toolinc::evaluate_simulated_session(toolinc::family_session(cases[i].family, cases[i].seed), pipeline);
+        toolinc::SessionSimulatorConfig session = toolinc::family_session(cases[i].family, cases[i].seed);
+        session.stereo = toolinc::stereo_model_from_string(stereo);
+        cases[i].errors = toolinc::evaluate_simulated_session(session, pipeline);
         const std::lock_guard<std::mutex> lock(progress_mutex);
         progress(++done, cases.size());
       }

@@ -136,6 +136,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   cli.add_option("--sim-family", sim_family, "sim: the tool family held")->capture_default_str();
   cli.add_option("--sim-seed", sim_seed, "sim: seed of the grasp and the noise")->capture_default_str();
+  std::string sim_stereo = "ideal";
+  cli.add_option("--sim-stereo", sim_stereo, "sim: the stereo model, as simulate-session --stereo")
+      ->check(CLI::IsMember({"ideal", "sgbm"}))
+      ->capture_default_str();
   cli.add_option("--sim-real-time", sim_real_time, "sim: fraction of the simulated waits really waited")
       ->capture_default_str();
   cli.add_option("--sim-silent", sim_silent,
@@ -165,6 +169,7 @@ int main(int argc, char** argv) {
       sim_config.scene.shape = toolinc::default_shape(toolinc::family_from_string(sim_family));
       sim_config.scene.hand = config.hand;
       sim_config.scene.seed = sim_seed;
+      sim_config.scene.stereo = toolinc::stereo_model_from_string(sim_stereo);
       toolinc::Rng rng(sim_seed);  // the grasp as simulate-session draws it
       sim_config.scene.hand_from_canonical = toolinc::random_grasp(toolinc::exploration_grasp_range(), rng);
       if (!sim_silent.empty()) sim_config.silent = toolinc::stream_from_string(sim_silent);

@@ -57,7 +57,17 @@ int main(int argc, char** argv) {
   cli.add_option("--gross-error", gross_errors,
                  "VIEW:TRANS_M:ROT_DEG: that view's recorded hand pose is also off by this translation and "
                  "rotation (random direction and axis); repeatable");
-  cli.add_option("--disparity-noise", config.disparity_noise_px, "Sigma of the disparity (px)")->capture_default_str();
+  std::string stereo = toolinc::to_string(config.stereo);
+  cli.add_option("--stereo", stereo,
+                 "ideal: the true disparity plus Gaussian noise; sgbm: both eyes rendered (textured, lit) and "
+                 "matched by the iCub stereo module's StereoSGBM")
+      ->check(CLI::IsMember({"ideal", "sgbm"}))
+      ->capture_default_str();
+  cli.add_option("--disparity-noise", config.disparity_noise_px, "ideal: sigma of the disparity (px)")->capture_default_str();
+  cli.add_option("--pixel-noise", config.pixel_noise, "Sigma of the sensor noise per colour channel (grey levels)")
+      ->capture_default_str();
+  cli.add_flag("--renderer-blob", config.renderer_blob,
+               "sgbm: blob.png is the renderer's hand-and-tool mask, not the disparity's closest blob");
   cli.add_flag("--no-points", no_points, "Do not write points.pcd");
   cli.add_flag("--no-blob", no_blob, "Do not write blob.png");
   cli.add_option("--created", config.created, "The session's creation time (ISO 8601)")->capture_default_str();
@@ -74,6 +84,7 @@ int main(int argc, char** argv) {
     if (!label.empty()) config.tool_label = label;
     config.kinematic_error_m = kinematic_mm / 1000.0;
     for (const auto& text : gross_errors) config.gross_errors.push_back(parse_gross_error(text));
+    config.stereo = toolinc::stereo_model_from_string(stereo);
     config.write_points = !no_points;
     config.write_blob = !no_blob;
     const toolinc::SimulatedSession session = toolinc::simulate_session(config);

@@ -54,7 +54,7 @@ toolinc_component(report FOLDERS report PUBLIC toolinc::io PRIVATE spdlog::spdlo
 # lib/synth uses the recorder's exploration poses).
 toolinc_component(record FOLDERS record EXCLUDE record/sim_backend.cpp PUBLIC toolinc::session PRIVATE spdlog::spdlog)
 toolinc_component(sim FOLDERS synth EXTRA record/sim_backend.cpp PUBLIC toolinc::record
-                  PRIVATE opencv_imgproc spdlog::spdlog)
+                  PRIVATE opencv_imgproc opencv_calib3d spdlog::spdlog)
 
 # A new folder of lib/ in no component would be silently left out of the build: say so.
 file(GLOB lib_entries RELATIVE ${PROJECT_SOURCE_DIR}/lib LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/lib/*)

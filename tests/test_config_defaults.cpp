@@ -128,5 +128,20 @@ TEST(ConfigDefaults, RecordShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(files, 5 * 5);  // five views of view.json, left, disparity, blob and points
 }
 
+TEST(ConfigDefaults, CropCloudShippedConfigHoldsTheDefaults) {
+  // One SGBM view cropped with and without the config: the same points.
+  const auto dir = scratch_dir("config-defaults-crop");
+  const auto session = run_tool("simulate-session", "--stereo sgbm --seed 4 -q -o " + (dir / "session").string());
+  ASSERT_EQ(session.exit_code, 0) << session.err;
+  const std::string args = (dir / "session").string() + " --view 1 -q -o ";
+  const auto plain = run_tool("crop-cloud", args + (dir / "plain.ply").string());
+  const auto configured = run_tool("crop-cloud", args + (dir / "configured.ply").string() + kConfig);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(configured.exit_code, 0) << configured.err;
+  const auto a = read_cloud((dir / "plain.ply").string()), b = read_cloud((dir / "configured.ply").string());
+  ASSERT_GT(a.size(), 300u);
+  EXPECT_EQ(a.points, b.points);
+}
+
 }  // namespace
 }  // namespace toolinc

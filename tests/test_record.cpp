@@ -332,6 +332,17 @@ TEST(RecordApp, SimBackendEndToEndAndASilentPort) {
   expect_readable(dir / "t", 0);
 }
 
+TEST(RecordApp, SimBackendWithSgbmStereo) {
+  // The simulated robot's stereo module can be SGBM's too: a whole session, other disparities than ideal's.
+  const auto dir = scratch_dir("record-app-sgbm");
+  const auto sgbm = run_tool("record", "--backend sim --sim-stereo sgbm -q -o " + (dir / "sgbm").string());
+  ASSERT_EQ(sgbm.exit_code, 0) << sgbm.err;
+  expect_readable(dir / "sgbm", 5);
+  const auto ideal = run_tool("record", "--backend sim -q -o " + (dir / "ideal").string());
+  ASSERT_EQ(ideal.exit_code, 0) << ideal.err;
+  EXPECT_NE(slurp(dir / "sgbm" / "views" / "000" / "disparity.png"), slurp(dir / "ideal" / "views" / "000" / "disparity.png"));
+}
+
 TEST(RecordApp, CtrlCStopsTheRealProcess) {
   // Simulated waits are really waited (settle 2 s per pose), so the recording is still running when the
   // first view is listed; SIGINT then must end it with that session consistent.

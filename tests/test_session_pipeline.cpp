@@ -16,7 +16,9 @@
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
 #include "toolinc/synth/evaluation.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/synth/session_simulator.hpp"
+#include "toolinc/synth/tool_generator.hpp"
 
 using namespace toolinc;
 using namespace toolinc::testing;
@@ -131,29 +133,127 @@ TEST(SessionPipeline, EvaluateSessionsReportsThePipelinesErrors) {
   expect_failure_left_nothing(unknown, "spoon", dir / "bad.json", dir);
 }
 
-TEST(SessionPipeline, GrossErrorsRejectedRestMerged) {
-  // A view recorded with a grossly wrong hand pose is rejected either by crop-cloud (its points fall
-  // outside the hand-frame box: too few left) or by merge-views (implausible correction or poor fit).
-  for (std::uint32_t g = 0; g < 4; ++g) {
+namespace {
+
+// A view recorded with a grossly wrong hand pose is rejected either by crop-cloud (its points fall
+// outside the hand-frame box: too few left) or by merge-views (implausible correction or poor fit).
+// On SGBM sessions crop may also reject a good view (the closest blob there was a wrong-match patch or
+// only the tool's nearest part: too few points), and merge-views one that fits poorly: those views are
+// lost, but at least three views are merged. Returns in how many sessions the bad view was merged.
+int gross_errors_merged(StereoModel stereo, std::uint32_t sessions, const CropConfig& crop = {}) {
+  const bool all_good_kept = stereo == StereoModel::ideal;
+  int bad_merged = 0;
+  for (std::uint32_t g = 0; g < sessions; ++g) {
     SessionSimulatorConfig config = family_session(g % 2 ? ToolFamily::hook : ToolFamily::shovel, 200 + g);
+    config.stereo = stereo;
     const std::size_t bad = 1 + g % 4;
-    config.gross_errors.push_back({bad, g < 2 ? 0.15 : 0.0, g < 2 ? 0.0 : 60.0});
+    config.gross_errors.push_back({bad, g % 4 < 2 ? 0.15 : 0.0, g % 4 < 2 ? 0.0 : 60.0});
     const SimulatedSession session = simulate_session(config);
     std::vector<PointCloud> cropped;
     std::vector<std::size_t> index;
     for (std::size_t v = 0; v < session.views.size(); ++v) {
       try {
-        cropped.push_back(crop_view(session.info, session.info.views[v], session.views[v]).cloud);
+        cropped.push_back(crop_view(session.info, session.info.views[v], session.views[v], crop).cloud);
         index.push_back(v);
       } catch (const MethodError& e) {
-        EXPECT_EQ(v, bad) << "session " << g << ": " << e.what();
+        if (all_good_kept) EXPECT_EQ(v, bad) << "session " << g << ": " << e.what();
       }
     }
     const MergeResult merged = merge_views(cropped);
-    for (std::size_t k = 0; k < merged.views.size(); ++k)
-      EXPECT_EQ(merged.views[k].accepted, index[k] != bad) << "session " << g << " view " << index[k] << ": "
-                                                          << merged.views[k].reason;
+    int accepted = 0;
+    for (std::size_t k = 0; k < merged.views.size(); ++k) {
+      accepted += merged.views[k].accepted;
+      if (index[k] == bad && merged.views[k].accepted) {
+        ++bad_merged;
+        std::printf("session %u: the bad view %zu was merged (%s)\n", g, bad, merged.views[k].reason.c_str());
+      }
+      if (all_good_kept)
+        EXPECT_EQ(merged.views[k].accepted, index[k] != bad) << "session " << g << " view " << index[k] << ": "
+                                                            << merged.views[k].reason;
+    }
+    EXPECT_GE(accepted, 3) << "session " << g;
   }
+  return bad_merged;
+}
+
+// crop's settings for block-matched (sgbm) sessions, as evaluate-sessions --stereo sgbm uses them.
+CropConfig sgbm_crop() {
+  CropConfig crop;
+  crop.edge_radius_px = kSgbmEdgeRadiusPx;
+  return crop;
+}
+
+}  // namespace
+
+TEST(SessionPipeline, GrossErrorsRejectedRestMerged) { EXPECT_EQ(gross_errors_merged(StereoModel::ideal, 4), 0); }
+
+TEST(SessionPipeline, EvaluateSessionsOnSgbmSessions) {
+  // evaluate-sessions --stereo sgbm reports what the library measures on SGBM sessions with crop's
+  // depth-edge filter, and differs from the ideal sessions' figures.
+  const auto dir = scratch_dir("evaluate-sessions-sgbm");
+  const ToolRun run = run_tool("evaluate-sessions", "-q --stereo sgbm --families hook --first-seed 100 --grasps 1 -o " +
+                                                        (dir / "sgbm.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json session = read_json((dir / "sgbm.json").string())["sessions"][0];
+  SessionSimulatorConfig config = family_session(ToolFamily::hook, 100);
+  config.stereo = StereoModel::sgbm;
+  PipelineConfig pipeline;
+  pipeline.crop = sgbm_crop();
+  const SessionErrors e = evaluate_simulated_session(config, pipeline);
+  EXPECT_EQ(session["failure"], e.tool.failure);
+  EXPECT_EQ(session["model_median_m"].get<double>(), e.model_median_m);
+  EXPECT_EQ(session["tooltip_error_m"].get<double>(), e.tool.tooltip_m);
+  EXPECT_NE(e.model_median_m, evaluate_simulated_session(family_session(ToolFamily::hook, 100)).model_median_m);
+}
+
+TEST(SessionPipeline, SgbmGrossErrorsRejectedRestMerged) {
+  // Measured: of these 8 sessions one merges its bad view (session 2, a shovel turned 60 degrees: its flat
+  // blade still lands 64 % on the model after a 4.8 degree, 34 mm correction, as good SGBM views land
+  // 49-67 %); none of 16 other sessions (seeds 300-315, every family) does. A regression floor.
+  EXPECT_LE(gross_errors_merged(StereoModel::sgbm, 8, sgbm_crop()), 1);
+}
+
+TEST(SessionPipeline, SgbmSessionsCompleteAndDepthEdgesAreDropped) {
+  // Every family, two grasps, SGBM stereo: every session merges, and crop's depth-edge filter removes
+  // far-off (smeared, flying) points and keeps most good ones. Floors below the measured (README:
+  // model median 3.3 mm over 320 sessions), about the real reconstructions' 3.4 mm.
+  PipelineConfig pipeline;
+  pipeline.crop = sgbm_crop();
+  std::vector<double> model_errors;
+  int far_without = 0, far_with = 0, points_without = 0, points_with = 0;
+  for (ToolFamily family : all_families())
+    for (std::uint32_t g = 0; g < 2; ++g) {
+      SessionSimulatorConfig config = family_session(family, 100 + g);
+      config.stereo = StereoModel::sgbm;
+      const SessionErrors e = evaluate_simulated_session(config, pipeline);
+      ASSERT_EQ(e.tool.failure, "") << to_string(family) << " grasp " << g;
+      model_errors.push_back(e.model_median_m);
+      std::printf("%-9s grasp %u: model %.1f mm from the truth (p90 %.1f mm), tooltip error %.1f mm\n",
+                  to_string(family).c_str(), g, 1000 * e.model_median_m, 1000 * e.model.p90_m, 1000 * e.tool.tooltip_m);
+      if (g > 0) continue;
+      // One session per family without kinematic error: each cropped view against the true surface.
+      config.kinematic_error_m = config.kinematic_error_deg = 0;
+      const SimulatedSession session = simulate_session(config);
+      const Points truth = transform_points(generate_tool(config.shape, 1).points, config.hand_from_canonical);
+      for (std::size_t v = 0; v < session.views.size(); ++v) {
+        for (const bool filter : {false, true}) {
+          const Points cropped =
+              crop_view(session.info, session.info.views[v], session.views[v], filter ? pipeline.crop : CropConfig{})
+                  .cloud.points;
+          const std::vector<double> d = nearest_distances(cropped, truth);
+          const int far = static_cast<int>(std::count_if(d.begin(), d.end(), [](double x) { return x > 0.005; }));
+          (filter ? far_with : far_without) += far;
+          (filter ? points_with : points_without) += static_cast<int>(cropped.size());
+        }
+      }
+    }
+  std::printf("beyond 5 mm: %d of %d points without the depth-edge filter, %d of %d with it\n", far_without,
+              points_without, far_with, points_with);
+  // Measured (radius 2): 22 % fewer far points, 27 % fewer near ones: most far points are not at depth
+  // edges but on the plain tool's surface, matched off by a fraction of a pixel (README, realistic stereo).
+  EXPECT_LT(far_with, 0.85 * far_without);
+  EXPECT_GT(points_with - far_with, 0.6 * (points_without - far_without));
+  EXPECT_LT(median(model_errors), 0.004);
 }
 
 TEST(SessionPipeline, CommandsFailCleanlyOnBadInput) {

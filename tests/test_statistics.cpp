@@ -1,10 +1,14 @@
-// Order statistics and the interval of a measured rate, against values worked out by hand.
+// Order statistics, the interval of a measured rate and a cloud's distance profile, against values
+// worked out by hand.
 #include "toolinc/core/statistics.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
+
+#include "toolinc/ann/nearest_distance.hpp"
 
 namespace toolinc {
 namespace {
@@ -46,6 +50,27 @@ TEST(Statistics, WilsonIntervalOfARate) {
   const auto [empty_lo, empty_hi] = wilson_interval(0, 0);
   EXPECT_EQ(empty_lo, 0.0);
   EXPECT_EQ(empty_hi, 1.0);
+}
+
+}  // namespace
+}  // namespace toolinc
+
+namespace toolinc {
+namespace {
+
+TEST(Statistics, DistanceProfileOfACloudToASurface) {
+  // Ten points 1..10 mm above a single surface point: median the 6th (upper middle), p90 the 9th
+  // (floor(0.9 * 9) = 8th index), and 5 of 10 farther than 5 mm.
+  const Points surface{Vec3::Zero()};
+  Points cloud;
+  for (int k = 1; k <= 10; ++k) cloud.push_back(Vec3(0, 0, 0.001 * k));
+  const DistanceProfile profile = distance_profile(cloud, surface);
+  EXPECT_NEAR(profile.median_m, 0.006, 1e-12);
+  EXPECT_NEAR(profile.p90_m, 0.009, 1e-12);
+  EXPECT_DOUBLE_EQ(profile.beyond, 0.5);
+  EXPECT_DOUBLE_EQ(distance_profile(cloud, surface, 0.0095).beyond, 0.1);
+  EXPECT_EQ(nearest_distances(cloud, surface).size(), 10u);
+  EXPECT_THROW(distance_profile({}, surface), std::invalid_argument);
 }
 
 }  // namespace

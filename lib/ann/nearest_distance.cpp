@@ -26,6 +26,18 @@ double median_nearest_distance(const Points& from, const Points& to) {
   return median(std::move(distances));
 }
 
+std::vector<double> nearest_distances(const Points& from, const Points& to) {
+  std::vector<double> distances;
+  append_nearest_distances(from, to, distances);
+  return distances;
+}
+
+DistanceProfile distance_profile(const Points& from, const Points& to, double far) {
+  const std::vector<double> distances = nearest_distances(from, to);
+  const auto beyond = std::count_if(distances.begin(), distances.end(), [far](double d) { return d > far; });
+  return {median(distances), quantile(distances, 0.9), static_cast<double>(beyond) / distances.size()};
+}
+
 double median_chamfer_distance(const Points& a, const Points& b) {
   std::vector<double> distances;
   append_nearest_distances(a, b, distances);

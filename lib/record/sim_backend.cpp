@@ -135,10 +135,9 @@ class SimSources : public Sources {
     if (world_.config.silent == stream) return nullptr;
     if (!frame_) {
       const Pose root_from_camera = world_.eye.current();
-      const auto render = scene::render_scene(world_.config.scene, world_.model, world_.hand_box, world_.hand.current(),
-                                              root_from_camera);
       frame_.emplace();
-      frame_->data = scene::observe(render, world_.config.scene, root_from_camera, world_.rng, frame_->blob);
+      frame_->data = scene::record_view(world_.config.scene, world_.model, world_.hand_box, world_.hand.current(),
+                                        root_from_camera, world_.rng, frame_->blob);
     }
     return &*frame_;
   }

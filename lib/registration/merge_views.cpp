@@ -3,6 +3,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 #include "toolinc/cloud/preprocessing.hpp"
@@ -10,9 +11,15 @@
 #include "toolinc/core/rigid.hpp"
 
 namespace toolinc {
+namespace {
 
-MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config) {
-  if (views.empty()) throw MethodError("no views to merge");
+int accepted_views(const MergeResult& result) {
+  return static_cast<int>(std::count_if(result.views.begin(), result.views.end(),
+                                        [](const ViewMerge& v) { return v.accepted; }));
+}
+
+// Every view aligned in turn onto the growing model that starts as the first view.
+MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeConfig& config) {
   if (static_cast<int>(views[0].points.size()) < config.min_points)
     throw MethodError(fmt::format("the reference view has only {} points, at least {} needed", views[0].points.size(),
                                   config.min_points));
@@ -91,6 +98,32 @@ MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig&
       result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());
     }
   return result;
+}
+
+}  // namespace
+
+MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config) {
+  if (views.empty()) throw MethodError("no views to merge");
+  MergeResult best = merge_onto_first(views, config);
+  // A reference that most views do not fit (a wrong blob, a gross pose error) loses the good views with
+  // it: then the reference is the view that the most others fit, the earliest of equals.
+  if (2 * accepted_views(best) >= static_cast<int>(views.size())) return best;
+  MergeConfig quiet = config;
+  quiet.progress = nullptr;
+  for (std::size_t r = 1; r < views.size(); ++r) {
+    if (static_cast<int>(views[r].points.size()) < config.min_points) continue;
+    std::vector<PointCloud> ordered{views[r]};
+    for (std::size_t v = 0; v < views.size(); ++v)
+      if (v != r) ordered.push_back(views[v]);
+    MergeResult candidate = merge_onto_first(ordered, quiet);
+    if (accepted_views(candidate) <= accepted_views(best)) continue;
+    // Back to the input's order: ordered[0] is view r, ordered[k] view k - 1 below r and k above.
+    std::vector<ViewMerge> in_order(views.size());
+    for (std::size_t k = 0; k < ordered.size(); ++k) in_order[k == 0 ? r : (k <= r ? k - 1 : k)] = candidate.views[k];
+    candidate.views = std::move(in_order);
+    best = std::move(candidate);
+  }
+  return best;
 }
 
 }  // namespace toolinc

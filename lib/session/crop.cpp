@@ -2,6 +2,8 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <queue>
@@ -57,6 +59,46 @@ cv::Mat flood_3d(const cv::Mat& mask, const std::vector<Vec3>& root_points, doub
   return grown;
 }
 
+// Each pixel's disparity in pixels (NaN where there is none): from the exact points, as the stereo module
+// triangulated them (fx b / z in the left camera), else from the 8-bit disparity.
+std::vector<float> pixel_disparities(const CameraModel& camera, const Eigen::Matrix4d& root_from_camera,
+                                     const ViewData& view, const std::vector<Vec3>& root_points) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> disparity(root_points.size(), nan);
+  const Eigen::Matrix4d camera_from_root = inverse(root_from_camera);
+  for (std::size_t i = 0; i < disparity.size(); ++i) {
+    if (view.points.empty()) {
+      const int value = view.disparity.data[i];
+      if (value > 0) disparity[i] = static_cast<float>(camera.disparity_px(value));
+    } else if (root_points[i].allFinite()) {
+      disparity[i] = static_cast<float>(camera.fx * camera.baseline / apply(camera_from_root, root_points[i]).z());
+    }
+  }
+  return disparity;
+}
+
+// Clears the mask pixels near a depth edge (CropConfig::edge_radius_px); returns how many.
+int drop_depth_edges(cv::Mat& mask, const std::vector<float>& disparity, int radius, double jump) {
+  const int w = mask.cols, h = mask.rows;
+  std::vector<int> dropped;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const int i = v * w + u;
+      if (!mask.data[i] || std::isnan(disparity[i])) continue;
+      bool edge = false;
+      for (int dv = -radius; dv <= radius && !edge; ++dv)
+        for (int du = -radius; du <= radius && !edge; ++du) {
+          const int nu = u + du, nv = v + dv;
+          if (nu < 0 || nv < 0 || nu >= w || nv >= h) continue;
+          const float other = disparity[nv * w + nu];
+          edge = std::isnan(other) || disparity[i] - other > jump * std::max(std::abs(du), std::abs(dv));
+        }
+      if (edge) dropped.push_back(i);
+    }
+  for (const int i : dropped) mask.data[i] = 0;
+  return static_cast<int>(dropped.size());
+}
+
 }  // namespace
 
 CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
@@ -84,6 +126,11 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
       for (int u = 0; u < w; ++u)
         root_points[v * w + u] = reproject_disparity(camera, record.root_from_camera, u, v, view.disparity.at<std::uint8_t>(v, u));
     result.points_source = "disparity reprojection (approximate)";
+  }
+  if (config.edge_radius_px > 0) {
+    mask = mask.clone();  // the view's blob stays as read
+    result.edge_pixels = drop_depth_edges(mask, pixel_disparities(camera, record.root_from_camera, view, root_points),
+                                          config.edge_radius_px, config.edge_jump_px);
   }
   if (config.flood) mask = flood_3d(mask, root_points, config.flood_distance);
 

@@ -1,9 +1,14 @@
 #include "toolinc/synth/evaluation.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
+#include <algorithm>
+
 #include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/frame/symmetry.hpp"
 
 namespace toolinc {
@@ -66,11 +71,22 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, c
     return errors;
   }
   for (const auto& view : merged.views) errors.views_rejected += !view.accepted;
-  errors.model_median_m =
-      median_nearest_distance(merged.model.points, transform_points(canonical, config.hand_from_canonical));
+  errors.model = distance_profile(merged.model.points, transform_points(canonical, config.hand_from_canonical));
+  errors.model_median_m = errors.model.median_m;
   errors.tool = frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame,
                                          pipeline.tooltip);
   return errors;
+}
+
+std::string rate_text(int successes, int trials) {
+  const auto [lo, hi] = wilson_interval(successes, trials);
+  return fmt::format("{:5.1f}% ({:.1f}-{:.1f}%)", 100.0 * successes / std::max(trials, 1), 100 * lo, 100 * hi);
+}
+
+nlohmann::ordered_json rate_json(const std::string& name, int successes, int trials) {
+  const auto [lo, hi] = wilson_interval(successes, trials);
+  return {{"name", name}, {"trials", trials}, {"successes", successes},
+          {"rate", static_cast<double>(successes) / std::max(trials, 1)}, {"rate_interval_95", {lo, hi}}};
 }
 
 ToolSymmetry measure_symmetry(const Points& canonical) {

@@ -81,6 +81,14 @@ Json ground_truth(const SessionSimulatorConfig& config, const RenderModel& model
 
 }  // namespace
 
+StereoModel stereo_model_from_string(const std::string& name) {
+  if (name == "ideal") return StereoModel::ideal;
+  if (name == "sgbm") return StereoModel::sgbm;
+  throw std::invalid_argument("unknown stereo model \"" + name + "\" (ideal, sgbm)");
+}
+
+std::string to_string(StereoModel model) { return model == StereoModel::ideal ? "ideal" : "sgbm"; }
+
 CameraModel icub_camera() { return {320, 240, 257.3, 257.3, 160.0, 120.0, 96, 0.068}; }
 
 Pose camera_looking_at(const Vec3& eye, const Vec3& target) {
@@ -133,8 +141,7 @@ SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
     const double stamp = 2.0 * static_cast<double>(i);  // s: a move and the 1 s wait per pose
     record.stamps = {{"hand", stamp}, {"left", stamp}, {"disparity", stamp}};
 
-    const Render render = render_scene(config, model, hand_model, root_from_hand, root_from_camera);
-    session.views.push_back(observe(render, config, root_from_camera, rng, record.blob));
+    session.views.push_back(record_view(config, model, hand_model, root_from_hand, root_from_camera, rng, record.blob));
     info.views.push_back(std::move(record));
     session.true_root_from_hand.push_back(root_from_hand);
   }

@@ -1,6 +1,7 @@
 // The offline session pipeline on one core (issue floors: crop-cloud <= 30 ms per 320x240 view,
 // merge-views of 5 views <= 150 ms, the whole pipeline for a 5-view session < 0.5 s; the original spends
-// about 2.6 s median in one alignment call alone). Library calls on data in memory; file I/O excluded.
+// about 2.6 s median in one alignment call alone; issue 16: the same < 0.5 s on an SGBM session, and
+// simulate-session's 5 views with SGBM < 2 s). Library calls on data in memory; file I/O excluded.
 #include <benchmark/benchmark.h>
 
 #include "toolinc/frame/tool_frame.hpp"
@@ -14,20 +15,32 @@ using namespace toolinc;
 
 namespace {
 
-const SimulatedSession& sample_session() {
-  static const SimulatedSession session = [] {
-    SessionSimulatorConfig config;
-    config.shape = default_shape(ToolFamily::hoe);
-    Rng rng(7);
-    config.hand_from_canonical = random_grasp(exploration_grasp_range(), rng);
-    return simulate_session(config);
-  }();
-  return session;
+SessionSimulatorConfig sample_config(StereoModel stereo) {
+  SessionSimulatorConfig config;
+  config.shape = default_shape(ToolFamily::hoe);
+  Rng rng(7);
+  config.hand_from_canonical = random_grasp(exploration_grasp_range(), rng);
+  config.stereo = stereo;
+  return config;
 }
 
-std::vector<PointCloud> crop_all(const SimulatedSession& s) {
+const SimulatedSession& sample_session(StereoModel stereo = StereoModel::ideal) {
+  static const SimulatedSession ideal = simulate_session(sample_config(StereoModel::ideal));
+  static const SimulatedSession sgbm = simulate_session(sample_config(StereoModel::sgbm));
+  return stereo == StereoModel::ideal ? ideal : sgbm;
+}
+
+// crop's settings per stereo model, as evaluate-sessions uses them.
+CropConfig crop_config(StereoModel stereo) {
+  CropConfig crop;
+  if (stereo == StereoModel::sgbm) crop.edge_radius_px = kSgbmEdgeRadiusPx;
+  return crop;
+}
+
+std::vector<PointCloud> crop_all(const SimulatedSession& s, const CropConfig& crop = {}) {
   std::vector<PointCloud> views;
-  for (std::size_t v = 0; v < s.views.size(); ++v) views.push_back(crop_view(s.info, s.info.views[v], s.views[v]).cloud);
+  for (std::size_t v = 0; v < s.views.size(); ++v)
+    views.push_back(crop_view(s.info, s.info.views[v], s.views[v], crop).cloud);
   return views;
 }
 
@@ -46,17 +59,34 @@ void BM_MergeFiveViews(benchmark::State& state) {
 }
 
 void BM_WholePipeline(benchmark::State& state) {
-  const auto& s = sample_session();
+  const auto stereo = static_cast<StereoModel>(state.range(0));
+  const auto& s = sample_session(stereo);
+  const CropConfig crop = crop_config(stereo);
   for (auto _ : state) {
-    const MergeResult merged = merge_views(crop_all(s));
+    const MergeResult merged = merge_views(crop_all(s, crop));
     const ToolFrame frame = estimate_tool_frame(merged.model.points, {}, merged.model.viewpoints);
     benchmark::DoNotOptimize(find_tooltip(merged.model.points, frame));
   }
+  state.SetLabel(to_string(stereo));
+}
+
+void BM_SimulateSession(benchmark::State& state) {
+  const auto stereo = static_cast<StereoModel>(state.range(0));
+  const SessionSimulatorConfig config = sample_config(stereo);
+  for (auto _ : state) benchmark::DoNotOptimize(simulate_session(config));
+  state.SetLabel(to_string(stereo) + ", 5 views");
 }
 
 }  // namespace
 
 BENCHMARK(BM_CropView)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MergeFiveViews)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_WholePipeline)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholePipeline)
+    ->Arg(static_cast<int>(StereoModel::ideal))
+    ->Arg(static_cast<int>(StereoModel::sgbm))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateSession)
+    ->Arg(static_cast<int>(StereoModel::ideal))
+    ->Arg(static_cast<int>(StereoModel::sgbm))
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

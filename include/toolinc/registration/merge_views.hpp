@@ -41,12 +41,14 @@ struct ViewMerge {
 
 struct MergeResult {
   PointCloud model;                 // in the hand frame estimated as the mean of the accepted views'
-  Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the first view's
+  Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the reference view's
   std::vector<ViewMerge> views;
 };
 
 // Views in the hand frame, with their viewpoints if known (carried into the model with the corrections).
-// Throws MethodError when the reference (first) view has fewer than min_points points.
+// The first view is the reference, unless fewer than half the views fit onto it: then the view that the
+// most others fit (results in the input's order all the same). Throws MethodError when the first view
+// has fewer than min_points points.
 MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
 }  // namespace toolinc

@@ -10,6 +10,11 @@
 
 namespace toolinc {
 
+// crop's edge radius for the robot's SGBM (7 px blocks): fattening reaches up to the block's half-size,
+// 3 px, but dropping 3 px also shaves the true tips; 2 px kept the most (evaluate-sessions on 96 SGBM
+// sessions, tooltip within 20 mm: 0 px 54, 2 px 61, 3 px 41; README).
+constexpr int kSgbmEdgeRadiusPx = 2;
+
 struct CropConfig {
   // The hand-frame box the tool can occupy (the original's crop, inclusive); for the left hand its Z
   // range is mirrored (z -> -z), since the hands' frames are mirror images about the body's midplane.
@@ -19,6 +24,14 @@ struct CropConfig {
   int outlier_neighbors = 10;     // statistical outlier removal: k ...
   double outlier_std = 3.0;       // ... and the deviations allowed (the original's k 10, 3 sigma)
   int min_points = 300;           // fewer left is a failure (exit 3)
+  // Depth edges: block matching smears the nearer surface's disparity up to half its block past a depth
+  // edge (fattening) and leaves pixels between the two depths (flying pixels). A mask pixel is dropped
+  // when a pixel within edge_radius_px of it has a disparity lower by more than edge_jump_px per pixel of
+  // their distance (a surface at 45 cm seen 85 degrees from frontal changes by 1.7 px per pixel), or
+  // none (no match beside a matched pixel is an occlusion or a wrong-match edge). 0 (default) disables:
+  // on disparity without fattening it only shaves the tool's true edges, tip included.
+  int edge_radius_px = 0;         // px (kSgbmEdgeRadiusPx for the robot's SGBM)
+  double edge_jump_px = 2.0;      // px of disparity per pixel
   bool flood = false;             // grow the region from the blob's centre through 3D continuity
   double flood_distance = 0.004;  // m: neighbouring points closer than this are connected (SFM's Flood3D)
   BlobDetectorConfig blob;        // used when the view has no blob.png
@@ -28,7 +41,7 @@ struct CropResult {
   PointCloud cloud;              // hand frame, with the left image's colours
   std::string mask_source;       // "blob.png" or "closest blob on the disparity"
   std::string points_source;     // "points.pcd" or "disparity reprojection (approximate)"
-  int mask_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
+  int mask_pixels = 0, edge_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
 };
 
 // Throws MethodError when the mask is empty or fewer than min_points remain.

@@ -3,8 +3,10 @@
 // pipeline on a simulated session (the loop the session test and evaluate-sessions share).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
 #include "toolinc/registration/merge_views.hpp"
@@ -38,12 +40,18 @@ struct PipelineConfig {
 struct SessionErrors {
   int views_rejected = 0;         // by crop-cloud (too few points) or merge-views
   double model_median_m = 0.0;    // median distance from the merged model to the true surface
+  DistanceProfile model;          // the merged model's whole distance profile to the true surface
   HeldToolErrors tool;            // of the frame and tooltip; failure also says when the merge failed
 };
 
 // Simulates the session, then crop-cloud (all views), merge-views, estimate-frame and find-tooltip, as
 // scripts/pipeline.mk runs them, and compares with the tool's true surface and ground truth.
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& session, const PipelineConfig& pipeline = {});
+
+// A rate and its 95 % (Wilson) interval: "95.0% (92.0-96.9%)", and as JSON {name, trials, successes,
+// rate, rate_interval_95}; the reports over families, kinds and models share them.
+std::string rate_text(int successes, int trials);
+nlohmann::ordered_json rate_json(const std::string& name, int successes, int trials);
 
 // The symmetry class of a canonical model, measured: mirror symmetric about x = 0 too -> front_back,
 // also about the planes at 45 degrees -> fourfold, and also at 22.5 and 67.5 degrees -> axial;

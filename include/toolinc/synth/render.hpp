@@ -66,11 +66,19 @@ Box hand_box(const SessionSimulatorConfig& config);
 void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, const Pose& root_from_camera,
                      const Pose& hand_from_camera, Render& render);
 
-// The tool by splatting its samples, each over the pixels within its footprint.
-void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
-                 Render& render);
+// Directional light in the camera frame (unit, towards the light) and the ambient share.
+struct Lighting {
+  Vec3 direction;
+  double ambient;
+};
 
-// The whole scene: table, wall and hand by ray casting, then the tool held with config.hand_from_canonical.
+// The tool by splatting its samples, each over the pixels within its footprint; shaded by `lighting`
+// (Lambertian) when given, else by the cosine between the surface and the ray.
+void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
+                 Render& render, const Lighting* lighting = nullptr);
+
+// The whole scene: table, wall and hand by ray casting, then the tool held with config.hand_from_canonical;
+// with config.stereo sgbm, textured and lit as config says.
 Render render_scene(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
                     const Pose& root_from_hand, const Pose& root_from_camera);
 
@@ -81,6 +89,17 @@ Render render_scene(const SessionSimulatorConfig& config, const RenderModel& mod
 // simulated backend.
 ViewData observe(const Render& render, const SessionSimulatorConfig& config, const Pose& root_from_camera, Rng& rng,
                  std::optional<BlobInfo>& blob);
+
+// What SFM (with --use_sgbm) and dispBlobber make of a rendered rectified pair: the noisy left image,
+// SFM's published 8-bit disparity, the points triangulated from its 16x disparity (when
+// config.write_points) and the closest blob of the disparity, or the renderer's mask when
+// config.renderer_blob (when config.write_blob and there is a blob).
+ViewData observe_stereo(const Render& left, const Render& right, const SessionSimulatorConfig& config,
+                        const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob);
+
+// One view as config.stereo says: the left render observed (ideal), or both eyes rendered and matched.
+ViewData record_view(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
+                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob);
 
 // The gaze: like lookAtTool, which refines the fixation from the image, the eye looks at the tool's
 // bounding-box centre and then twice re-aims at the centre of the tool's extent in the image, so the

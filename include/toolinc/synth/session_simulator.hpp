@@ -15,6 +15,7 @@
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/record/exploration.hpp"
 #include "toolinc/session/session.hpp"
+#include "toolinc/synth/sfm_stereo.hpp"
 #include "toolinc/synth/tool_generator.hpp"
 
 namespace toolinc {
@@ -29,6 +30,13 @@ struct GrossError {
   double translation = 0.0;    // m
   double rotation_deg = 0.0;
 };
+
+// How the disparity is made: `ideal`, the truth plus Gaussian noise at every pixel of the scene; `sgbm`,
+// both cameras rendered and matched by the stereo module's StereoSGBM (sfm_stereo.hpp).
+enum class StereoModel { ideal, sgbm };
+
+StereoModel stereo_model_from_string(const std::string& name);  // "ideal" | "sgbm", else invalid_argument
+std::string to_string(StereoModel model);
 
 struct SessionSimulatorConfig {
   // The tool: a procedural shape, or, when `model` is not empty, that cloud in the canonical pose
@@ -48,8 +56,25 @@ struct SessionSimulatorConfig {
   double kinematic_error_deg = 1.5;
   std::vector<GrossError> gross_errors;  // applied on top of the kinematic error
 
-  double disparity_noise_px = 0.15;  // Gaussian, on the sub-pixel disparity (depth sigma = z^2 sigma / (fx b))
-  double pixel_noise = 2.0;          // Gaussian per colour channel of left.png, in grey levels
+  StereoModel stereo = StereoModel::ideal;
+  double disparity_noise_px = 0.15;  // ideal: Gaussian, on the sub-pixel disparity (depth sigma = z^2 sigma / (fx b))
+  double pixel_noise = 2.0;          // Gaussian sensor noise per colour channel of each image, in grey levels
+
+  // sgbm: the right eye is the left one moved by camera.baseline along its x (a rectified pair); the
+  // disparity is SFM's (sfm), the points are triangulated from its 16x disparity as SFM's RPC does, and
+  // blob.png is the closest blob of the published disparity (dispBlobber) unless renderer_blob, which
+  // keeps the renderer's hand-and-tool mask.
+  SfmStereoConfig sfm;
+  bool renderer_blob = false;
+  // sgbm's scene: Lambertian surfaces lit from light_direction (root frame, towards the light: above
+  // and in front of the robot) plus ambient light, each surface's albedo modulated by a fixed texture
+  // (value noise in the surface's own frame, so both eyes see the same) of this relative contrast:
+  Eigen::Vector3d light_direction{-0.5, 0.3, 1.0};
+  double ambient = 0.3;         // share of the light that does not depend on the surface's orientation
+  double tool_texture = 0.03;   // a plain-coloured tool: paint or plastic, almost uniform
+  double hand_texture = 0.10;   // skin or glove
+  double table_texture = 0.30;  // wood grain and stains, on top of the grain's stripes
+  double wall_texture = 0.30;   // posters, shelves, paint
   bool write_points = true;          // points.pcd
   bool write_blob = true;            // blob.png and the view's blob record
 
