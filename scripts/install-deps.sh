@@ -7,8 +7,9 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libpcl-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev liblzf-dev
   snakemake
+  clang-14 libclang-rt-14-dev llvm-14
 )
 
 missing=()
