@@ -1,10 +1,11 @@
 // crop-cloud SESSION [--view N | --all] -o OUT: the tool's points of recorded views, in the hand frame.
 #include <spdlog/spdlog.h>
 
-#include <filesystem>
+#include <optional>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/session/crop.hpp"
@@ -43,9 +44,11 @@ int main(int argc, char** argv) {
     config.box_max = Eigen::Vector3d(box_max[0], box_max[1], box_max[2]);
     const auto session = toolinc::read_session(session_dir);
     std::vector<std::size_t> views;
+    // --all: every view's PLY appears at the end, together, or none does (a later view's bad input).
+    std::optional<toolinc::OutputFolder> folder;
     if (all) {
       for (std::size_t v = 0; v < session.views.size(); ++v) views.push_back(v);
-      std::filesystem::create_directories(command.output());
+      folder.emplace(command.output());
     } else {
       if (view < 0 || static_cast<std::size_t>(view) >= session.views.size())
         throw toolinc::InputError(session_dir, fmt::format("no view {} (the session has {})", view, session.views.size()));
@@ -56,10 +59,10 @@ int main(int argc, char** argv) {
       const auto& record = session.views[v];
       try {
         const auto crop = toolinc::crop_view(session, record, toolinc::read_view(session_dir, session, v), config);
-        const std::string out = all ? fmt::format("{}/view_{:03d}.ply", command.output(), v) : command.output();
+        const std::string out = all ? folder->path(fmt::format("view_{:03d}.ply", v)) : command.output();
         toolinc::write_ply(out, crop.cloud, {ascii, command.command_line()});
         spdlog::info("{}: {} points ({}; {}) -> {}", record.dir, crop.cloud.size(), crop.mask_source,
-                     crop.points_source, out);
+                     crop.points_source, all ? fmt::format("{}/view_{:03d}.ply", command.output(), v) : out);
       } catch (const toolinc::MethodError& e) {
         if (!all) throw;
         spdlog::warn("{}", e.what());  // one bad view must not lose the others
@@ -68,5 +71,6 @@ int main(int argc, char** argv) {
     }
     if (failed == static_cast<int>(views.size()))
       throw toolinc::MethodError(fmt::format("{}: no view could be cropped", session_dir));
+    if (folder) folder->commit();
   });
 }

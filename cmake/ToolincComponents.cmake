@@ -43,7 +43,7 @@ endfunction()
 toolinc_component(core FOLDERS core ann PUBLIC Eigen3::Eigen)
 toolinc_component(geometry FOLDERS cloud frame registration PUBLIC toolinc::core PRIVATE spdlog::spdlog)
 # Clouds (PLY, PCD) and the JSON results; results_json speaks the geometry's types.
-toolinc_component(io FOLDERS io PUBLIC toolinc::geometry nlohmann_json::nlohmann_json PRIVATE spdlog::spdlog)
+toolinc_component(io FOLDERS io PUBLIC toolinc::geometry nlohmann_json::nlohmann_json PRIVATE spdlog::spdlog liblzf::liblzf)
 # OpenCV from here on.
 toolinc_component(session FOLDERS session PUBLIC toolinc::io opencv_core PRIVATE opencv_imgproc opencv_imgcodecs spdlog::spdlog)
 toolinc_component(appearance FOLDERS appearance PUBLIC toolinc::session opencv_dnn

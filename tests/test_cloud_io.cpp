@@ -1,5 +1,6 @@
 // Point-cloud reading and writing: PLY and PCD variants, error messages, atomic writes.
 #include <gtest/gtest.h>
+#include <lzf.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -60,38 +61,14 @@ std::string bytes_of(T value, bool big_endian = false) {
 std::string u8(int value) { return std::string(1, static_cast<char>(value)); }
 
 // The test's own LZF compressor: greedy longest match within the 8 KiB window, literal runs otherwise.
+// liblzf's own compressor (Debian's liblzf, the library PCL's format comes from), so the reader is tested
+// on streams it did not produce itself.
 std::string lzf_compress(const std::string& in) {
-  std::string out, literals;
-  const auto flush = [&] {
-    for (std::size_t pos = 0; pos < literals.size(); pos += 32) {
-      const std::string run = literals.substr(pos, 32);
-      out += u8(static_cast<int>(run.size()) - 1) + run;
-    }
-    literals.clear();
-  };
-  std::size_t i = 0;
-  while (i < in.size()) {
-    std::size_t best = 0, best_distance = 0;
-    for (std::size_t distance = 1; distance <= std::min<std::size_t>(i, 8192); ++distance) {
-      std::size_t length = 0;
-      while (i + length < in.size() && length < 264 && in[i + length] == in[i - distance + length]) ++length;
-      if (length > best) best = length, best_distance = distance;
-    }
-    if (best < 3) {
-      literals += in[i++];
-      continue;
-    }
-    flush();
-    const std::size_t length = best - 2, offset = best_distance - 1;
-    if (length < 7) {
-      out += u8(static_cast<int>((length << 5) | (offset >> 8)));
-    } else {
-      out += u8(static_cast<int>((7 << 5) | (offset >> 8))) + u8(static_cast<int>(length - 7));
-    }
-    out += u8(static_cast<int>(offset & 0xff));
-    i += best;
-  }
-  flush();
+  std::string out(in.size() + in.size() / 16 + 64, '\0');
+  const unsigned size = ::lzf_compress(in.data(), static_cast<unsigned>(in.size()), out.data(),
+                                       static_cast<unsigned>(out.size()));
+  if (size == 0) throw std::runtime_error("lzf_compress failed");
+  out.resize(size);
   return out;
 }
 
@@ -411,6 +388,62 @@ TEST_F(CloudIo, BadPcdHeadersAreInputErrors) {
   expect_read_error(
       write("short.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nDATA binary\n" + std::string(20, '\0')),
       "truncated");
+}
+
+TEST_F(CloudIo, PcdBinaryCompressedLargeCloudFromLiblzf) {
+  // 20000 points of smooth data: long back-references, literal runs and the 8 KB window all exercised.
+  const int n = 20000;
+  std::string xs, ys, zs;
+  for (int i = 0; i < n; ++i) {
+    xs += bytes_of(static_cast<float>(std::sin(i * 0.01)));
+    ys += bytes_of(static_cast<float>(i % 97) * 0.001f);
+    zs += bytes_of(0.5f);
+  }
+  const std::string raw = xs + ys + zs;
+  const PointCloud cloud =
+      read_cloud(write("big.pcd", compressed_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n", n, raw, lzf_compress(raw))));
+  ASSERT_EQ(cloud.size(), static_cast<std::size_t>(n));
+  for (int i = 0; i < n; i += 997)
+    expect_point(cloud.points[i], static_cast<float>(std::sin(i * 0.01)), static_cast<float>(i % 97) * 0.001f, 0.5);
+  // Cut one byte off the stream: the decoder must notice, not read past the end.
+  std::string cut = lzf_compress(raw);
+  cut.pop_back();
+  expect_read_error(write("cut.pcd", compressed_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n", n, raw, cut)), "corrupt");
+}
+
+// Regression (issue 19): SIZE x COUNT wrapping to 0 or a few bytes gave a division by zero, reads past
+// the buffer and, for one binary file, a cloud made up from nothing.
+TEST_F(CloudIo, PcdRecordWidthOverflowIsAnInputError) {
+  const std::string tail = "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n" + std::string(64, '\x01');
+  expect_read_error(write("count.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 4611686018427387904 1 1\n" + tail),
+                    "SIZE x COUNT");
+  expect_read_error(write("pad.pcd", "FIELDS x y z _\nSIZE 4 4 4 1\nTYPE F F F U\nCOUNT 1 1 1 18446744073709551608\n" +
+                                         tail),
+                    "SIZE x COUNT");
+  const std::string compressed_tail = "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary_compressed\n" + bytes_of(4u) +
+                                      bytes_of(0u) + std::string(4, '\x01');
+  expect_read_error(write("count_c.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 4611686018427387904 1\n" +
+                                             compressed_tail),
+                    "SIZE x COUNT");
+  expect_read_error(write("count_a.pcd", "FIELDS x y z\nSIZE 8 4 4\nTYPE F F F\nCOUNT 2305843009213693952 1 1\n"
+                                         "WIDTH 1\nDATA ascii\n1 2 3\n"),
+                    "SIZE x COUNT");
+  // Absurd declared sizes are bad input before anything is allocated.
+  expect_read_error(write("huge.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 18446744073709551615\nHEIGHT 1\n"
+                                      "DATA binary\n" + std::string(24, '\0')),
+                    "truncated");
+}
+
+TEST_F(CloudIo, PcdViewpointIsCarriedAsTheCloudsViewpoint) {
+  const std::string body = "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  const std::string fields = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n";
+  const PointCloud seen = read_cloud(write("v.pcd", fields + "VIEWPOINT 0.1 -0.2 0.35 0.5 0.5 0.5 0.5\n" + body));
+  ASSERT_EQ(seen.viewpoints.size(), 1u);
+  expect_point(seen.viewpoints[0], 0.1, -0.2, 0.35);
+  // PCL's default (origin, identity) means "unknown": no viewpoint, as with a PLY without the comment.
+  EXPECT_TRUE(read_cloud(write("d.pcd", fields + "VIEWPOINT 0 0 0 1 0 0 0\n" + body)).viewpoints.empty());
+  expect_read_error(write("bad.pcd", fields + "VIEWPOINT 0 0 nan 1 0 0 0\n" + body), "VIEWPOINT");
+  expect_read_error(write("short.pcd", fields + "VIEWPOINT 1 2 3\n" + body), "VIEWPOINT");
 }
 
 TEST_F(CloudIo, AtomicWriteLeavesNothingWhenTheWriterThrows) {

@@ -96,7 +96,7 @@ TEST(ConfigDefaults, LearnAppearanceShippedConfigHoldsTheDefaults) {
 
   // classify, where the decision options apply: rows near each label and one between them.
   ASSERT_FALSE(plain.empty());
-  write_file_atomic((dir / "classifier.json").string(), [&](std::ostream& out) { out << plain; });
+  write_file_atomic((dir / "classifier.json").string(), [&text = plain](std::ostream& out) { out << text; });
   std::vector<Eigen::VectorXd> rows = {db.rows[0], db.rows[1], 0.5 * (db.rows[0] + db.rows[1])};
   write_feature_rows((dir / "rows.txt").string(), rows);
   const auto [classified, classified_configured] = plain_and_configured(

@@ -4,9 +4,11 @@
 #include <spdlog/spdlog.h>
 
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/io/json_file.hpp"
 
 namespace toolinc {
 namespace {
@@ -22,9 +24,9 @@ class JsonConfig : public CLI::Config {
   std::vector<CLI::ConfigItem> from_config(std::istream& input) const override {
     nlohmann::json json;
     try {
-      json = nlohmann::json::parse(input);
-    } catch (const nlohmann::json::exception& e) {
-      throw CLI::ConversionError("config file is not valid JSON: " + std::string(e.what()));
+      json = parse_json(std::string(std::istreambuf_iterator<char>(input), {}), "config file");
+    } catch (const InputError& e) {
+      throw CLI::ConversionError(e.what());
     }
     if (!json.is_object()) throw CLI::ConversionError("config file must hold a JSON object");
     // CLI11 keeps the first value it reads for an option, so the items go most specific first: the

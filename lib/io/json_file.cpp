@@ -2,18 +2,51 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <filesystem>
+
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
 
 namespace toolinc {
 
-Json read_json(const std::string& path) {
-  const std::string text = read_file(path);
+void check_json_limits(std::string_view text, const std::string& file) {
+  if (text.size() > kMaxJsonBytes)
+    throw InputError(file, fmt::format("JSON of {} bytes is larger than the {} bytes allowed", text.size(), kMaxJsonBytes));
+  std::size_t depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;  // the escaped character cannot end the string
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw InputError(file, fmt::format("JSON nested more than {} levels deep (byte {})", kMaxJsonDepth, i));
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+Json parse_json(std::string_view text, const std::string& file) {
+  check_json_limits(text, file);
   try {
     return Json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path, fmt::format("not valid JSON (byte {})", e.byte));
+    throw InputError(file, fmt::format("not valid JSON (byte {})", e.byte));
+  } catch (const nlohmann::json::exception& e) {  // e.g. out_of_range for 1e400
+    throw InputError(file, fmt::format("not valid JSON ({})", e.what()));
   }
+}
+
+Json read_json(const std::string& path) {
+  std::error_code unknown;
+  const auto size = std::filesystem::file_size(path, unknown);
+  if (!unknown && size > kMaxJsonBytes)
+    throw InputError(path, fmt::format("JSON of {} bytes is larger than the {} bytes allowed", size, kMaxJsonBytes));
+  return parse_json(read_file(path), path);
 }
 
 void write_json(const std::string& path, const Json& json) {

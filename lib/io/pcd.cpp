@@ -1,13 +1,19 @@
-// PCD reading: v0.7 headers (and 0.5/0.6 ones without VERSION/VIEWPOINT), DATA ascii, binary and
-// binary_compressed (LZF, fields stored one after another as PCL writes them).
+// PCD reading, the one reader of both read_cloud and the sessions' organised clouds: v0.7 headers (and
+// 0.5/0.6 ones without VERSION/VIEWPOINT), DATA ascii, binary and binary_compressed (LZF via Debian's
+// liblzf, fields stored one after another as PCL writes them).
+#include <lzf.h>
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <optional>
 
 #include "cloud_formats.hpp"
-#include "lzf.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/pcd_write.hpp"
 
 namespace toolinc::io_detail {
 namespace {
@@ -25,6 +31,8 @@ struct PcdField {
 struct PcdHeader {
   std::vector<PcdField> fields;
   std::size_t points = 0;
+  std::optional<std::size_t> width, height;
+  std::optional<Vec3> viewpoint;
   PcdData data = PcdData::Ascii;
   std::size_t data_offset = 0;
   std::size_t lines = 0;
@@ -34,6 +42,7 @@ struct PcdHeader {
 struct RawHeader {
   std::vector<std::string_view> fields, sizes, types, counts;
   std::optional<std::size_t> width, height, points;
+  std::optional<Vec3> viewpoint;
   std::optional<std::string_view> data;
   std::size_t data_offset = 0;
   std::size_t lines = 0;
@@ -55,6 +64,19 @@ std::size_t header_number(const std::string& path, std::string_view line, const 
   if (words.size() != 2 || !parse_count(words[1], value))
     throw InputError(path, "PCD header: bad line " + quoted(line));
   return value;
+}
+
+// "VIEWPOINT tx ty tz qw qx qy qz": the sensor's pose in the cloud's frame. Its origin is where the
+// points were seen from; PCL writes 0 0 0 1 0 0 0 when it does not know, so a zero origin is no viewpoint.
+std::optional<Vec3> parse_viewpoint(const std::string& path, std::string_view line,
+                                    const std::vector<std::string_view>& words) {
+  double values[7];
+  bool ok = words.size() == 8;
+  for (std::size_t i = 0; ok && i < 7; ++i) ok = parse_number(words[i + 1], values[i]) && std::isfinite(values[i]);
+  if (!ok) throw InputError(path, "PCD header: bad VIEWPOINT line " + quoted(line) + " (expected 7 numbers)");
+  const Vec3 origin(values[0], values[1], values[2]);
+  if (origin.isZero(0.0)) return std::nullopt;
+  return origin;
 }
 
 RawHeader read_raw_header(const std::string& path, std::string_view data) {
@@ -83,7 +105,9 @@ RawHeader read_raw_header(const std::string& path, std::string_view data) {
     } else if (key == "DATA") {
       if (words.size() != 2) throw InputError(path, "PCD header: bad line " + quoted(line));
       raw.data = words[1];
-    } else if (key != "VERSION" && key != "VIEWPOINT") {
+    } else if (key == "VIEWPOINT") {
+      raw.viewpoint = parse_viewpoint(path, line, words);
+    } else if (key != "VERSION") {
       throw InputError(path, "PCD header line " + std::to_string(lines.number()) + ": unknown keyword " + quoted(key));
     }
   }
@@ -112,6 +136,9 @@ void check_entry_count(const std::string& path, const char* key, std::size_t ent
   }
 }
 
+// No real point type comes near this; it keeps every record-width product far from overflowing.
+constexpr std::size_t kMaxRecordBytes = std::size_t{1} << 20;
+
 std::vector<PcdField> build_fields(const std::string& path, const RawHeader& raw) {
   if (raw.fields.empty()) throw InputError(path, "PCD header has no FIELDS line");
   if (raw.sizes.empty()) throw InputError(path, "PCD header has no SIZE line");
@@ -137,6 +164,14 @@ std::vector<PcdField> build_fields(const std::string& path, const RawHeader& raw
     }
     field.type = raw.types[i][0];
     field.scalar = *scalar;
+  }
+  // A record (the sum of SIZE x COUNT) must be addressable: absurd counts are bad input, not a wrapped width.
+  std::size_t record = 0;
+  for (const PcdField& field : fields) {
+    if (field.count > kMaxRecordBytes / field.size || record + field.size * field.count > kMaxRecordBytes)
+      throw InputError(path, "PCD header: a point of more than " + std::to_string(kMaxRecordBytes) +
+                                 " bytes (SIZE x COUNT of " + quoted(field.name) + ")");
+    record += field.size * field.count;
   }
   return fields;
 }
@@ -167,6 +202,9 @@ PcdHeader parse_header(const std::string& path, std::string_view data) {
   }
   header.data_offset = raw.data_offset;
   header.lines = raw.lines;
+  header.width = raw.width;
+  header.height = raw.height;
+  header.viewpoint = raw.viewpoint;
   return header;
 }
 
@@ -239,7 +277,7 @@ void read_binary(const std::string& path, const PcdHeader& header, const Roles& 
     columns.push_back({stride, 0});
     stride += field.size * field.count;
   }
-  for (Column& column : columns) column.step = stride;
+  for (Column& column : columns) column.step = stride;  // >= 1: every field has SIZE and COUNT >= 1
   const std::size_t available = body.size() / stride;
   if (available < header.points) throw truncated(path, header.points, available);
   extract_points(body.data(), header.fields, columns, roles, header.points, cloud);
@@ -262,6 +300,7 @@ void read_compressed(const std::string& path, const PcdHeader& header, const Rol
     columns.push_back({stride, bytes});
     stride += bytes;
   }
+  // stride >= 12: x, y and z are never padding.
   if (header.points > std::numeric_limits<std::size_t>::max() / stride || uncompressed != header.points * stride) {
     throw InputError(path, "binary_compressed: uncompressed size " + std::to_string(uncompressed) + " does not match " +
                                std::to_string(header.points) + " points of " + std::to_string(stride) + " bytes");
@@ -270,8 +309,10 @@ void read_compressed(const std::string& path, const PcdHeader& header, const Rol
   // An LZF back-reference of 3 bytes yields at most 264: a larger claim is corrupt, not worth allocating.
   if (uncompressed / 88 > compressed) throw InputError(path, "corrupt binary_compressed data (sizes do not fit LZF)");
   std::vector<std::uint8_t> block(uncompressed);
-  const auto written =
-      lzf_decompress(reinterpret_cast<const std::uint8_t*>(body.data() + 8), compressed, block.data(), block.size());
+  // liblzf checks every run and back-reference against both buffers (CHECK_INPUT) and returns 0 on error.
+  const unsigned written = uncompressed == 0 ? 0
+                                             : lzf_decompress(body.data() + 8, static_cast<unsigned>(compressed),
+                                                              block.data(), static_cast<unsigned>(block.size()));
   if (written != uncompressed) throw InputError(path, "corrupt binary_compressed data (LZF stream is invalid)");
   extract_points(reinterpret_cast<const char*>(block.data()), header.fields, columns, roles, header.points, cloud);
 }
@@ -290,8 +331,11 @@ class AsciiReader {
     return as_stored(value, type);
   }
 
-  // A packed colour: the bits of a float for TYPE F, else the integer itself.
+  // A packed colour: the integer itself (PCL writes even TYPE F colours so, as opaque ones are NaN as
+  // floats), else for TYPE F the bits of the float.
   std::uint32_t packed(std::string_view token, char type) const {
+    std::size_t integer;
+    if (parse_count(token, integer) && integer <= 0xffffffffu) return static_cast<std::uint32_t>(integer);
     if (type == 'F') {
       float value;
       if (!parse_float(token, value)) throw error("bad number " + quoted(token));
@@ -354,8 +398,10 @@ bool looks_like_pcd(std::string_view data) {
   return false;
 }
 
-PointCloud parse_pcd(const std::string& path, std::string_view data) {
-  const PcdHeader header = parse_header(path, data);
+namespace {
+
+// The header and every point as stored (non-finite ones included).
+PointCloud decode_pcd(const std::string& path, const PcdHeader& header, std::string_view data) {
   const Roles roles = find_roles(header.fields);
   if (roles[kX] < 0 || roles[kY] < 0 || roles[kZ] < 0) throw InputError(path, "PCD has no x/y/z fields");
   PointCloud cloud;
@@ -365,7 +411,28 @@ PointCloud parse_pcd(const std::string& path, std::string_view data) {
     case PcdData::Binary: read_binary(path, header, roles, body, cloud); break;
     case PcdData::BinaryCompressed: read_compressed(path, header, roles, body, cloud); break;
   }
+  if (header.viewpoint) cloud.viewpoints.push_back(*header.viewpoint);
   return cloud;
 }
 
+}  // namespace
+
+PointCloud parse_pcd(const std::string& path, std::string_view data) {
+  return decode_pcd(path, parse_header(path, data), data);
+}
+
 }  // namespace toolinc::io_detail
+
+namespace toolinc {
+
+Points read_organised_pcd(const std::string& path, int width, int height) {
+  const std::string data = read_file(path);
+  const io_detail::PcdHeader header = io_detail::parse_header(path, data);
+  const std::size_t w = header.width.value_or(header.points), h = header.height.value_or(1);
+  if (w != static_cast<std::size_t>(width) || h != static_cast<std::size_t>(height) || header.points != w * h)
+    throw InputError(path, fmt::format("organised cloud is {}x{} ({} points), expected {}x{}", w, h, header.points,
+                                       width, height));
+  return io_detail::decode_pcd(path, header, data).points;
+}
+
+}  // namespace toolinc

@@ -4,7 +4,6 @@
 #include "toolinc/session/session.hpp"
 
 #include <spdlog/fmt/fmt.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -93,7 +92,18 @@ BlobInfo blob_from_json(const Json& json, const std::string& file) {
   return blob;
 }
 
+// A session's files lie inside its folder: a view listed as an absolute path or climbing out with ".."
+// would make a tool read (and a batch job trust) someone else's data.
+void check_inside_session(const std::string& dir, const std::string& session_file) {
+  const fs::path path(dir);
+  bool escapes = dir.empty() || path.has_root_name() || path.has_root_directory();
+  for (const auto& part : path) escapes = escapes || part == "..";
+  if (escapes)
+    throw InputError(session_file, fmt::format("view folder \"{}\" is not a relative path inside the session folder", dir));
+}
+
 ViewRecord read_view_json(const fs::path& session_dir, const std::string& dir, const std::string& session_file) {
+  check_inside_session(dir, session_file);
   const fs::path view_dir = session_dir / dir;
   if (!fs::is_directory(view_dir)) throw InputError(session_file, fmt::format("view folder {} is missing", dir));
   const std::string file = (view_dir / "view.json").string();
@@ -293,21 +303,15 @@ void write_session(const std::string& session_dir, const SessionInfo& session, c
   std::error_code ec;
   if (fs::exists(target, ec) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))
     throw InputError(session_dir, "already exists and is not empty (a session is never written over another)");
-  const fs::path temp = target.string() + ".tmp." + std::to_string(::getpid());
-  fs::remove_all(temp, ec);
+  OutputFolder folder(target.string());  // the whole session appears at once, or nothing does
   try {
-    fs::create_directories(temp);
-    for (std::size_t i = 0; i < views.size(); ++i) write_view(temp.string(), session.views[i], views[i]);
-    if (!ground_truth.is_null()) write_json((temp / "ground_truth.json").string(), ground_truth);
-    write_session_json(temp.string(), session);
-    fs::rename(temp, target);
+    for (std::size_t i = 0; i < views.size(); ++i) write_view(folder.path(""), session.views[i], views[i]);
   } catch (const fs::filesystem_error& e) {
-    fs::remove_all(temp, ec);
     throw InputError(session_dir, "cannot write: " + e.code().message());
-  } catch (...) {
-    fs::remove_all(temp, ec);
-    throw;
   }
+  if (!ground_truth.is_null()) write_json(folder.path("ground_truth.json"), ground_truth);
+  write_session_json(folder.path(""), session);
+  folder.commit();
 }
 
 }  // namespace toolinc

@@ -3,14 +3,29 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 namespace toolinc {
 
 using Json = nlohmann::ordered_json;
 
-// Throws InputError(path, ...) when the file is missing or not valid JSON.
+// Limits checked before parsing, so a hostile file is one clear error rather than a stack overflow
+// (copies and dumps of a JSON value recurse once per level) or an allocation failure. Every JSON file
+// the tools write or read nests fewer than 10 levels and weighs well under a megabyte per session.
+constexpr std::size_t kMaxJsonDepth = 64;
+constexpr std::size_t kMaxJsonBytes = std::size_t{64} << 20;
+
+// Throws InputError(file, ...) when text is larger than kMaxJsonBytes or nests arrays/objects deeper
+// than kMaxJsonDepth (brackets inside strings do not count).
+void check_json_limits(std::string_view text, const std::string& file);
+// check_json_limits, then parses; every parse failure (syntax, a number out of range such as 1e400)
+// is an InputError naming the file.
+Json parse_json(std::string_view text, const std::string& file);
+
+// Throws InputError(path, ...) when the file is missing, too large, too deep or not valid JSON.
 Json read_json(const std::string& path);
 // Pretty-printed, newline-terminated, written atomically; "-" is standard output.
 void write_json(const std::string& path, const Json& json);

@@ -13,8 +13,8 @@ namespace toolinc {
 // Throws std::invalid_argument when points.size() != width * height.
 void write_pcd(const std::string& path, const Points& points, int width, int height);
 
-// Reads an ascii or binary PCD with float32 x y z (other fields are skipped), keeping NaN points.
-// Throws InputError naming the file when it is malformed or not width x height.
+// Reads a PCD (any encoding; other fields are skipped) with the same reader as read_cloud, keeping NaN
+// points. Throws InputError naming the file when it is malformed or not width x height.
 Points read_organised_pcd(const std::string& path, int width, int height);
 
 }  // namespace toolinc

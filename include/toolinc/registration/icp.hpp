@@ -26,12 +26,16 @@ struct IcpResult {
   bool converged = false;
 };
 
-// A target surface prepared once for many alignments.
+// A target surface prepared once for many alignments. The tree refers to this object's own points, so
+// the target is neither copyable nor movable (a copy's tree would still search the original's points),
+// and its members are const (new points under an old tree would be searched wrongly).
 struct IcpTarget {
   IcpTarget(Points points, int normal_neighbors = 10);
-  Points points;
-  Points normals;
-  KdTree tree;
+  IcpTarget(const IcpTarget&) = delete;
+  IcpTarget& operator=(const IcpTarget&) = delete;
+  const Points points;
+  const Points normals;
+  const KdTree tree;
 };
 
 IcpResult align_point_to_plane(const Points& source, const IcpTarget& target, const Eigen::Matrix4d& initial,
