@@ -71,7 +71,7 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
     const auto view_file = (std::filesystem::path(session_dir) / session.views[i].dir / "view.json").string();
     const auto crop = view_crop_box(data, session.views[i]);
     if (!crop) throw InputError(view_file, "no blob inside the image (neither blob.png nor a blob roi) to crop the tool from");
-    crops.push_back({i, *crop, data.left(*crop).clone()});
+    crops.push_back({i, *crop, data.left(*crop).clone(), data.blob.empty() ? cv::Mat() : data.blob(*crop).clone()});
   }
   return crops;
 }

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -32,7 +33,7 @@ void add_session(const std::string& dir, const std::string& label_override, cons
   check_label(label, session_file);
   for (const auto& crop : session_crops(dir, session)) {
     out.labels.push_back(label);
-    out.rows.push_back(extractor.extract(crop.image));
+    out.rows.push_back(extractor.extract(crop.image, crop.mask));
   }
 }
 
@@ -70,6 +71,72 @@ Eigen::MatrixXd stack(const std::vector<Eigen::VectorXd>& rows) {
   return matrix;
 }
 
+// Per group (a session's views, or a single sample), its label and the mean of its rows' scores: the
+// robot decides on a session's averaged scores.
+std::vector<std::pair<std::size_t, Eigen::RowVectorXd>> group_means(const Eigen::MatrixXd& scores,
+                                                                    const std::vector<std::size_t>& targets,
+                                                                    const std::vector<std::size_t>& groups) {
+  std::map<std::size_t, std::pair<std::size_t, Eigen::RowVectorXd>> sums;
+  std::map<std::size_t, int> counts;
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    auto [it, fresh] = sums.try_emplace(groups[i], targets[i], Eigen::RowVectorXd::Zero(scores.cols()));
+    it->second.second += scores.row(static_cast<Eigen::Index>(i));
+    ++counts[groups[i]];
+  }
+  std::vector<std::pair<std::size_t, Eigen::RowVectorXd>> means;
+  for (const auto& [group, sum] : sums) means.emplace_back(sum.first, sum.second / counts[group]);
+  return means;
+}
+
+// The unknown-tool floor on the best score, from the training data alone: the scores a known tool gets
+// from the classifier trained without its session (another grasp of a tool it knows), against the best
+// scores a tool gets from the classifier trained without its label (a tool it has never seen), per
+// session; separating_floor between the two. Needs three labels (two left when one is out).
+DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<std::size_t>& targets,
+                                  const std::vector<std::string>& labels, const std::vector<std::size_t>& groups,
+                                  const RlsModel& model, const RlsConfig& rls, Json& summary) {
+  DecisionConfig decision;
+  summary = {{"min_margin_from", "default: 5 % of the +-1 target range"}};
+  if (labels.size() < 3) {
+    summary["min_score_from"] = "default: with two labels none can be left out to calibrate it";
+    return decision;
+  }
+  std::vector<double> known, unknown;
+  const Eigen::MatrixXd held_out = leave_group_out_scores(x, targets, labels.size(), groups, model.lambda);
+  for (const auto& [target, mean] : group_means(held_out, targets, groups)) known.push_back(mean[static_cast<Eigen::Index>(target)]);
+  for (std::size_t out = 0; out < labels.size(); ++out) {
+    std::vector<Eigen::Index> in_rows, out_rows;
+    std::vector<std::size_t> in_targets, out_groups;
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+      if (targets[i] == out) {
+        out_rows.push_back(static_cast<Eigen::Index>(i)), out_groups.push_back(groups[i]);
+      } else {
+        in_rows.push_back(static_cast<Eigen::Index>(i)), in_targets.push_back(targets[i] - (targets[i] > out));
+      }
+    }
+    std::vector<std::string> others = labels;
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(out));
+    const RlsModel without = train_rls(x(in_rows, Eigen::all), in_targets, others, rls);
+    const Eigen::MatrixXd scores = rls_scores(without, x(out_rows, Eigen::all));
+    for (const auto& [target, mean] : group_means(scores, std::vector<std::size_t>(out_rows.size(), 0), out_groups))
+      unknown.push_back(mean.maxCoeff());
+  }
+  decision.min_score = separating_floor(known, unknown);
+  const auto share_below = [&](const std::vector<double>& v) {
+    return static_cast<double>(std::count_if(v.begin(), v.end(), [&](double s) { return s < decision.min_score; })) / v.size();
+  };
+  summary["min_score_from"] = "leave-one-out on the training data: known sessions left out, against labels left out";
+  summary["known_groups"] = known.size();
+  summary["known_rejected"] = share_below(known);
+  summary["unknown_groups"] = unknown.size();
+  summary["unknown_accepted"] = 1.0 - share_below(unknown);
+  spdlog::info("unknown floor {:.3f} on the best score: on the training data it rejects {:.0f}% of {} known sessions "
+               "(left out) and accepts {:.0f}% of {} never seen (their label left out)", decision.min_score,
+               100.0 * summary["known_rejected"].get<double>(), known.size(),
+               100.0 * summary["unknown_accepted"].get<double>(), unknown.size());
+  return decision;
+}
+
 Json box_json(const cv::Rect& box) { return Json::array({box.x, box.y, box.width, box.height}); }
 
 }  // namespace
@@ -91,7 +158,12 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
   }
 
   LabelledFeatures data;
-  for (const auto& session : sources.sessions) add_session(session, sources.label, extractor, data);
+  std::vector<std::size_t> groups;  // a session's views form one group, any other sample its own
+  std::size_t next_group = 0;
+  for (const auto& session : sources.sessions) {
+    add_session(session, sources.label, extractor, data);
+    groups.resize(data.rows.size(), next_group++);
+  }
   if (!sources.images.empty()) add_image_list(sources.images, extractor, data);
   if (database) {
     data.labels.insert(data.labels.end(), database->labels.begin(), database->labels.end());
@@ -107,9 +179,13 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
     targets.push_back(static_cast<std::size_t>(std::lower_bound(labels.begin(), labels.end(), label) - labels.begin()));
   spdlog::info("training on {} samples of {} label(s), {} {} features each", data.rows.size(), labels.size(),
                extractor.dimension(), extractor.name());
-  RlsModel model = train_rls(stack(data.rows), targets, labels, rls);
+  const Eigen::MatrixXd x = stack(data.rows);
+  RlsModel model = train_rls(x, targets, labels, rls);
   spdlog::info("lambda {:.3g} by leave-one-out: error {:.4f}, accuracy {:.1f}%", model.lambda, model.loo_error,
                100.0 * model.loo_accuracy);
+  while (groups.size() < data.rows.size()) groups.push_back(next_group++);
+  Json calibration;
+  const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, model, rls, calibration);
 
   training_summary = {{"samples", data.rows.size()},
                       {"per_label", counts},
@@ -117,7 +193,7 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
                       {"label", sources.label},
                       {"images", sources.images},
                       {"features_db", sources.features_db}};
-  return {extractor, std::move(model)};
+  return {extractor, std::move(model), decision, calibration};
 }
 
 Json classify_appearance(const AppearanceClassifier& classifier, const std::string& classifier_path,
@@ -135,7 +211,7 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
   Json source;
   if (!input.session.empty()) {
     for (const auto& crop : session_crops(input.session, read_session(input.session), input.view)) {
-      rows.push_back(extractor.extract(crop.image));
+      rows.push_back(extractor.extract(crop.image, crop.mask));
       samples.push_back({{"view", crop.view}, {"box", box_json(crop.box)}});
     }
     source = {{"session", input.session}};

@@ -4,8 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "toolinc/core/error.hpp"
@@ -44,6 +46,16 @@ Spectrum spectrum(const Eigen::MatrixXd& x) {
   return result;
 }
 
+// +1 for the row's label, -1 for the others.
+Eigen::MatrixXd target_matrix(const std::vector<std::size_t>& targets, std::size_t labels) {
+  Eigen::MatrixXd y = -Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(targets.size()), static_cast<Eigen::Index>(labels));
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (targets[i] >= labels) throw std::invalid_argument("train_rls: target out of range");
+    y(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(targets[i])) = 1.0;
+  }
+  return y;
+}
+
 }  // namespace
 
 RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
@@ -52,13 +64,9 @@ RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_
   if (static_cast<std::size_t>(n) != targets.size()) throw std::invalid_argument("train_rls: one target per row");
   if (config.lambda_count < 1 || !(config.lambda_min_ratio > 0) || !(config.lambda_max_ratio >= config.lambda_min_ratio))
     throw std::invalid_argument("train_rls: bad lambda range");
-  Eigen::MatrixXd y = -Eigen::MatrixXd::Ones(n, classes);
+  const Eigen::MatrixXd y = target_matrix(targets, labels.size());
   Eigen::VectorXi count = Eigen::VectorXi::Zero(classes);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (targets[i] >= labels.size()) throw std::invalid_argument("train_rls: target out of range");
-    y(i, static_cast<Eigen::Index>(targets[i])) = 1.0;
-    ++count[static_cast<Eigen::Index>(targets[i])];
-  }
+  for (const std::size_t target : targets) ++count[static_cast<Eigen::Index>(target)];
   if ((count.array() > 0).count() < 2)
     throw MethodError(fmt::format("the training data hold {} label(s); recognition needs samples of at least two",
                                   (count.array() > 0).count()));
@@ -100,6 +108,30 @@ RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_
   best.weights = x.transpose() * (s.u * (inverse.asDiagonal() * z));
   best.bias = y_mean - x_mean * best.weights;
   return best;
+}
+
+Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                                       std::size_t labels, const std::vector<std::size_t>& groups, double lambda) {
+  const Eigen::Index n = features.rows();
+  if (static_cast<std::size_t>(n) != targets.size() || targets.size() != groups.size())
+    throw std::invalid_argument("leave_group_out_scores: one target and one group per row");
+  const Eigen::MatrixXd y = target_matrix(targets, labels);
+  const Eigen::RowVectorXd y_mean = y.colwise().mean();
+  const Eigen::MatrixXd x = features.rowwise() - features.colwise().mean(), yc = y.rowwise() - y_mean;
+  const Spectrum s = spectrum(x);
+  const Eigen::VectorXd shrink = s.s2.array() / (s.s2.array() + lambda);
+  const Eigen::MatrixXd residual = yc - s.u * (shrink.asDiagonal() * (s.u.transpose() * yc));
+  std::map<std::size_t, std::vector<Eigen::Index>> members;
+  for (Eigen::Index i = 0; i < n; ++i) members[groups[static_cast<std::size_t>(i)]].push_back(i);
+  Eigen::MatrixXd scores(n, y.cols());
+  for (const auto& [group, rows] : members) {
+    const Eigen::MatrixXd u = s.u(rows, Eigen::all);
+    const auto m = static_cast<Eigen::Index>(rows.size());
+    const Eigen::MatrixXd hat = Eigen::MatrixXd::Constant(m, m, 1.0 / n) + u * shrink.asDiagonal() * u.transpose();
+    const Eigen::MatrixXd loo = (Eigen::MatrixXd::Identity(m, m) - hat).lu().solve(residual(rows, Eigen::all));
+    scores(rows, Eigen::all) = y(rows, Eigen::all) - loo;
+  }
+  return scores;
 }
 
 Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features) {

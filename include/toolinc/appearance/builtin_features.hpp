@@ -1,37 +1,66 @@
-// The builtin appearance descriptor, which needs no model file: the crop resized to a fixed size, then
-//  - HOG (Dalal & Triggs): per pixel the gradient of the colour channel where it is strongest (central
-//    differences), its unsigned orientation voted into `orientation_bins` bins per `cell` x `cell` cell
-//    with linear interpolation between neighbouring bins, and blocks of `block` x `block` cells (stride
-//    one cell) each L2-normalised: the tool's outline and parts;
-//  - a joint hue x saturation histogram in HSV, square-rooted (Hellinger) so that it is L2-normalised:
-//    the tool's colour, which the outline alone cannot give at table-top resolutions.
-// Each part is L2-normalised and both are scaled by 1/sqrt(2), so the whole vector has unit norm.
+// The builtin appearance descriptor, which needs no model file. It looks at the tool's shape first, since
+// tools are often the same colour as one another (issue 18):
+//  - the blob (the tool and the hand holding it) is normalised for where it lies in the crop: a window
+//    centred on the blob's centroid, its principal axis vertical, the side with the larger third moment
+//    down and right (so a tool and its mirror image, or the same tool upside down, look alike), scaled
+//    so the blob's extent fills it;
+//  - "mask_hog": HOG of that window's silhouette at two scales (size and coarse_size px, `cell` px cells,
+//    `block` x `block` blocks L2-normalised, `orientation_bins` unsigned orientations);
+//  - "grey_hog": the same of the grey image in the window: the tool's inner edges and shading;
+//  - "silhouette": the blob's rotation-invariant shape: the histogram of its pixels' distances from the
+//    centroid (in units of the farthest, square-rooted shares) and its seven Hu moments (-sign log10 |h|,
+//    divided by 10 to the histogram's range);
+//  - "colour": a joint hue x saturation histogram of the blob's pixels in HSV, square-rooted shares.
+// Each block has unit norm and the whole vector is divided by sqrt(4): the classifier, not the
+// descriptor, decides how much each block counts.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstddef>
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 #include "toolinc/io/json_file.hpp"
 
 namespace toolinc {
 
+// Which descriptor a classifier file's "builtin" extractor is: files without it predate the shape
+// descriptor (colour HOG and a hue histogram) and are refused with a request to retrain.
+constexpr int kBuiltinDescriptorVersion = 2;
+
 struct BuiltinFeatureConfig {
-  int width = 64, height = 64;  // px the crop is resized to; multiples of cell
-  int cell = 8;                 // px
-  int block = 2;                // cells per block side
-  int orientation_bins = 9;     // over 0-180 deg
-  int hue_bins = 16;            // over OpenCV's 0-180 hue
-  int saturation_bins = 4;      // over 0-255
+  int size = 64;             // px side of the normalised window; a multiple of cell
+  int coarse_size = 32;      // px side of the second HOG scale; a multiple of cell
+  double head_share = 0.4;   // the head window's side, as a share of the blob's length
+  int cell = 8;              // px
+  int block = 2;             // cells per block side
+  int orientation_bins = 9;  // over 0-180 deg
+  int radial_bins = 16;      // silhouette distance histogram, over 0 to the farthest blob pixel
+  int hue_bins = 16;         // over OpenCV's 0-180 hue
+  int saturation_bins = 4;   // over 0-255
 };
+
+// A named part of the vector, for ablations: mask_hog, grey_hog, silhouette, colour, in that order.
+struct FeatureBlock {
+  std::string name;
+  Eigen::Index start = 0, size = 0;
+};
+std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& config);
 
 std::size_t builtin_dimension(const BuiltinFeatureConfig& config);
 
 // Throws std::invalid_argument when the sizes do not fit together.
 void check(const BuiltinFeatureConfig& config);
 
-// Features of an 8-bit BGR crop.
-Eigen::VectorXd builtin_features(const cv::Mat& bgr, const BuiltinFeatureConfig& config);
+// Features of an 8-bit BGR crop and the blob's mask in it (CV_8UC1, non-zero on the blob, the crop's
+// size); an empty mask is estimated with estimate_blob_mask.
+Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& mask, const BuiltinFeatureConfig& config);
+
+// The blob where no mask was recorded (an image and a box): the crop's border is background (the crop
+// holds a margin around the object's box), so the pixels farther in colour from every border colour
+// than Otsu's threshold on those distances are foreground; the largest connected part of them is kept.
+cv::Mat estimate_blob_mask(const cv::Mat& bgr);
 
 // Every parameter, for the classifier file; and back (throws InputError(file, ...)).
 Json to_json(const BuiltinFeatureConfig& config);

@@ -31,6 +31,7 @@ struct ViewCrop {
   std::size_t view = 0;
   cv::Rect box;   // the crop in the left image, margin included
   cv::Mat image;  // BGR
+  cv::Mat mask;   // the blob in the crop (blob.png's), empty when the session has no blob.png
 };
 
 // The crops of every view of a session (or only of `view`). The blob's bounding box comes from blob.png
