@@ -190,10 +190,14 @@ void check(const BuiltinFeatureConfig& c) {
 }
 
 std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
-  const auto hogs = 2 * static_cast<Eigen::Index>(hog_dimension(c.size, c) + hog_dimension(c.coarse_size, c));
-  const Eigen::Index silhouette = c.radial_bins + 7, colour = static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins;
-  return {{"mask_hog", 0, hogs}, {"grey_hog", hogs, hogs}, {"silhouette", 2 * hogs, silhouette},
-          {"colour", 2 * hogs + silhouette, colour}};
+  const auto hog = static_cast<Eigen::Index>(hog_dimension(c.size, c) + hog_dimension(c.coarse_size, c));
+  std::vector<FeatureBlock> blocks;
+  Eigen::Index at = 0;
+  for (const auto& [name, size] : std::vector<std::pair<std::string, Eigen::Index>>{
+           {"mask_hog", hog}, {"head_mask_hog", hog}, {"grey_hog", hog}, {"head_grey_hog", hog},
+           {"silhouette", c.radial_bins + 7}, {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
+    blocks.push_back({name, at, size}), at += size;
+  return blocks;
 }
 
 std::size_t builtin_dimension(const BuiltinFeatureConfig& c) {
@@ -239,20 +243,18 @@ Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& given_mask, 
   grey.convertTo(grey_f, CV_32F);
   mask.convertTo(mask_f, CV_32F, 1.0 / 255);
   const cv::Mat blob_grey = grey_f.mul(mask_f);  // the background's texture is no part of the tool
-  const auto windows = [&](const cv::Mat& image) {
-    const cv::Mat a = warp(image, window_from_crop(frame, whole, c.size), (c.size / 2.0 - 1) / whole.half, c.size);
-    const cv::Mat b = warp(image, window_from_crop(frame, head, c.size), (c.size / 2.0 - 1) / head.half, c.size);
-    Eigen::VectorXd both(2 * static_cast<Eigen::Index>(hog_dimension(c.size, c) + hog_dimension(c.coarse_size, c)));
-    both << two_scale_hog(a, c), two_scale_hog(b, c);
-    normalise(both);
-    return both;
-  };
-  const Eigen::VectorXd blocks[] = {windows(mask_f), windows(blob_grey), silhouette(mask, frame, c),
+  const cv::Matx23d to_whole = window_from_crop(frame, whole, c.size), to_head = window_from_crop(frame, head, c.size);
+  const double whole_scale = (c.size / 2.0 - 1) / whole.half, head_scale = (c.size / 2.0 - 1) / head.half;
+  const Eigen::VectorXd blocks[] = {two_scale_hog(warp(mask_f, to_whole, whole_scale, c.size), c),
+                                    two_scale_hog(warp(mask_f, to_head, head_scale, c.size), c),
+                                    two_scale_hog(warp(blob_grey, to_whole, whole_scale, c.size), c),
+                                    two_scale_hog(warp(blob_grey, to_head, head_scale, c.size), c),
+                                    silhouette(mask, frame, c),
                                     colour_histogram(bgr, mask, c)};
   Eigen::VectorXd features(static_cast<Eigen::Index>(builtin_dimension(c)));
   Eigen::Index at = 0;
   for (const auto& block : blocks) features.segment(at, block.size()) = block, at += block.size();
-  return features / std::sqrt(4.0);
+  return features / std::sqrt(static_cast<double>(std::size(blocks)));
 }
 
 Json to_json(const BuiltinFeatureConfig& c) {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -91,14 +92,17 @@ std::vector<std::pair<std::size_t, Eigen::RowVectorXd>> group_means(const Eigen:
 // The unknown-tool floor on the best score, from the training data alone: the scores a known tool gets
 // from the classifier trained without its session (another grasp of a tool it knows), against the best
 // scores a tool gets from the classifier trained without its label (a tool it has never seen), per
-// session; separating_floor between the two. Needs three labels (two left when one is out).
+// session; separating_floor between the two. Needs three labels (two left when one is out), and
+// sessions only: of images or database rows it is not known which come from one session, and a row
+// left out beside its session's other frames would look better known than a new grasp does.
 DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<std::size_t>& targets,
                                   const std::vector<std::string>& labels, const std::vector<std::size_t>& groups,
-                                  const RlsModel& model, const RlsConfig& rls, Json& summary) {
+                                  bool sessions_only, const RlsModel& model, const RlsConfig& rls, Json& summary) {
   DecisionConfig decision;
   summary = {{"min_margin_from", "default: 5 % of the +-1 target range"}};
-  if (labels.size() < 3) {
-    summary["min_score_from"] = "default: with two labels none can be left out to calibrate it";
+  if (labels.size() < 3 || !sessions_only) {
+    summary["min_score_from"] = labels.size() < 3 ? "default: with two labels none can be left out to calibrate it"
+                                                  : "default: samples not all from sessions";
     return decision;
   }
   std::vector<double> known, unknown;
@@ -179,13 +183,28 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
     targets.push_back(static_cast<std::size_t>(std::lower_bound(labels.begin(), labels.end(), label) - labels.begin()));
   spdlog::info("training on {} samples of {} label(s), {} {} features each", data.rows.size(), labels.size(),
                extractor.dimension(), extractor.name());
-  const Eigen::MatrixXd x = stack(data.rows);
-  RlsModel model = train_rls(x, targets, labels, rls);
+  Eigen::MatrixXd x = stack(data.rows);
+  while (groups.size() < data.rows.size()) groups.push_back(next_group++);
+  RlsModel model;
+  Json block_weights = Json::object();
+  if (extractor.name() == "builtin") {
+    const auto blocks = builtin_blocks(extractor.builtin_config());
+    const FeatureBlock& colour = blocks.back();
+    const double weight = weigh_block(x, targets, labels, groups, colour.start, colour.size, rls, model);
+    block_weights = {{"colour", weight}, {"from", "leave-one-session-out error among 1, 1/2, 1/4, 1/8 and 0"}};
+    spdlog::info("colour block weight {} (leave-one-session-out)", weight);
+  } else {
+    model = train_rls(x, targets, labels, rls);
+  }
   spdlog::info("lambda {:.3g} by leave-one-out: error {:.4f}, accuracy {:.1f}%", model.lambda, model.loo_error,
                100.0 * model.loo_accuracy);
-  while (groups.size() < data.rows.size()) groups.push_back(next_group++);
   Json calibration;
-  const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, model, rls, calibration);
+  const bool sessions_only = sources.images.empty() && !database;
+  const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, sessions_only, model, rls, calibration);
+  if (extractor.name() == "builtin") {  // the weight moves into the colour rows: the extractor stays as it is
+    const FeatureBlock colour = builtin_blocks(extractor.builtin_config()).back();
+    model.weights.middleRows(colour.start, colour.size) *= block_weights["colour"].get<double>();
+  }
 
   training_summary = {{"samples", data.rows.size()},
                       {"per_label", counts},
@@ -193,6 +212,7 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
                       {"label", sources.label},
                       {"images", sources.images},
                       {"features_db", sources.features_db}};
+  if (!block_weights.empty()) training_summary["block_weights"] = block_weights;
   return {extractor, std::move(model), decision, calibration};
 }
 

@@ -134,6 +134,24 @@ Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const st
   return scores;
 }
 
+double weigh_block(Eigen::MatrixXd& x, const std::vector<std::size_t>& targets, const std::vector<std::string>& labels,
+                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size, const RlsConfig& config,
+                   RlsModel& model) {
+  const Eigen::MatrixXd y = target_matrix(targets, labels.size());
+  double best_error = std::numeric_limits<double>::infinity(), best_weight = 1;
+  for (const double weight : {1.0, 0.5, 0.25, 0.125, 0.0}) {
+    Eigen::MatrixXd scaled = x;
+    scaled.middleCols(start, size) *= weight;
+    RlsModel candidate = train_rls(scaled, targets, labels, config);
+    const double error =
+        (leave_group_out_scores(scaled, targets, labels.size(), groups, candidate.lambda) - y).squaredNorm() / y.size();
+    spdlog::debug("block weight {}: leave-group-out error {:.4f}", weight, error);
+    if (error < best_error) best_error = error, best_weight = weight, model = std::move(candidate);
+  }
+  x.middleCols(start, size) *= best_weight;
+  return best_weight;
+}
+
 Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features) {
   return (features * model.weights).rowwise() + model.bias;
 }

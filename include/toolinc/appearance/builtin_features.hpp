@@ -1,18 +1,20 @@
 // The builtin appearance descriptor, which needs no model file. It looks at the tool's shape first, since
 // tools are often the same colour as one another (issue 18):
-//  - the blob (the tool and the hand holding it) is normalised for where it lies in the crop: a window
-//    centred on the blob's centroid, its principal axis vertical, the side with the larger third moment
-//    down and right (so a tool and its mirror image, or the same tool upside down, look alike), scaled
-//    so the blob's extent fills it;
-//  - "mask_hog": HOG of that window's silhouette at two scales (size and coarse_size px, `cell` px cells,
-//    `block` x `block` blocks L2-normalised, `orientation_bins` unsigned orientations);
-//  - "grey_hog": the same of the grey image in the window: the tool's inner edges and shading;
+//  - the blob (the tool and the hand holding it) is put upright: its principal axis vertical, the end
+//    towards the image's top up (the camera looks at a tool held up, the hand below it), the head's side
+//    with the larger third moment across to the right (so a tool and its mirror image look alike);
+//  - two square windows of that frame, `size` px: the whole blob, and its head (the top end, a square
+//    of head_share of the blob's length, centred across on the head's pixels);
+//  - "mask_hog", "head_mask_hog": HOG of the silhouette in each window, "grey_hog", "head_grey_hog": of
+//    the blob's grey image there (background set to 0: the table's texture is no part of the tool), each
+//    at two scales (size and coarse_size px, `cell` px cells, `block` x `block` blocks L2-normalised,
+//    `orientation_bins` unsigned orientations, square-rooted);
 //  - "silhouette": the blob's rotation-invariant shape: the histogram of its pixels' distances from the
 //    centroid (in units of the farthest, square-rooted shares) and its seven Hu moments (-sign log10 |h|,
 //    divided by 10 to the histogram's range);
 //  - "colour": a joint hue x saturation histogram of the blob's pixels in HSV, square-rooted shares.
-// Each block has unit norm and the whole vector is divided by sqrt(4): the classifier, not the
-// descriptor, decides how much each block counts.
+// Each block has unit norm and the whole vector is divided by sqrt(6). How much colour counts is left to
+// the training data (learn-appearance weighs the block by leave-one-session-out).
 #pragma once
 
 #include <Eigen/Core>

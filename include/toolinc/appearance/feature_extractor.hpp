@@ -28,6 +28,7 @@ class FeatureExtractor {
   const std::string& name() const { return name_; }
   Eigen::Index dimension() const { return dimension_; }
   bool extracts_from_images() const { return name_ != "external"; }
+  const BuiltinFeatureConfig& builtin_config() const { return builtin_; }  // meaningful for "builtin" only
   // Features of an 8-bit BGR crop and the blob's mask in it (empty when not recorded: the builtin
   // descriptor estimates it; a network ignores it). Throws std::logic_error for an external extractor.
   Eigen::VectorXd extract(const cv::Mat& bgr, const cv::Mat& mask = cv::Mat()) const;
