@@ -101,6 +101,63 @@ TEST(AppearanceSha256, PaddingBoundaries) {  // lengths around the 56-byte paddi
   for (const auto& [length, digest] : expected) EXPECT_EQ(sha256_hex(std::string(length, 'a')), digest) << length;
 }
 
+// --- The simulator's colours ------------------------------------------------------------------------------
+
+// The tool's colour and the session's light and tint change the left image only: the disparity, the blob and
+// the ground truth are those of the same seed in any colour; the colour shows on the tool's pixels alone.
+TEST(AppearanceSimulator, ColourChangesTheImageNotTheGeometry) {
+  SessionSimulatorConfig config = family_session(ToolFamily::rake, 7);
+  config.write_points = false;
+  config.tool_rgb = std::array<int, 3>{128, 128, 128};
+  const SimulatedSession grey = simulate_session(config);
+  config.tool_rgb = std::array<int, 3>{190, 40, 35};
+  const SimulatedSession red = simulate_session(config);
+  config.tool_rgb.reset();
+  config.scene_variation = 0;
+  const SimulatedSession plain = simulate_session(config);
+  EXPECT_EQ(grey.ground_truth, red.ground_truth);
+  for (std::size_t i = 0; i < grey.views.size(); ++i) {
+    for (const auto* other : {&red, &plain}) {
+      EXPECT_EQ(cv::norm(grey.views[i].disparity, other->views[i].disparity, cv::NORM_INF), 0) << i;
+      EXPECT_EQ(cv::norm(grey.views[i].blob, other->views[i].blob, cv::NORM_INF), 0) << i;
+    }
+    cv::Mat difference, channels[3];
+    cv::absdiff(grey.views[i].left, red.views[i].left, difference);
+    cv::split(difference, channels);
+    const cv::Mat changed = (channels[0] | channels[1] | channels[2]) > 0;
+    EXPECT_GT(cv::countNonZero(changed), 0);
+    EXPECT_EQ(cv::countNonZero(changed & ~grey.views[i].blob), 0) << "colour outside the blob in view " << i;
+  }
+  config.tool_rgb = std::array<int, 3>{0, 256, 0};
+  EXPECT_THROW(simulate_session(config), std::invalid_argument);
+}
+
+TEST(AppearanceSimulator, ColorOption) {
+  const auto dir = scratch_dir("appearance-simulate-color");
+  // Pixels of the blob where green stands out, in the same session painted green and red.
+  std::map<std::string, int> green;
+  for (const std::string colour : {"20,200,30", "200,20,30"}) {
+    const auto out = (dir / colour).string();
+    const auto run = run_tool("simulate-session", "--family hook --seed 3 --no-points --color " + colour + " -q -o " + out);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const ViewData view = read_view(out, read_session(out), 0);
+    for (int y = 0; y < view.left.rows; ++y)
+      for (int x = 0; x < view.left.cols; ++x) {
+        const auto& p = view.left.at<cv::Vec3b>(y, x);  // BGR
+        green[colour] += view.blob.at<uchar>(y, x) && p[1] > p[2] + 40 && p[1] > p[0] + 40;
+      }
+  }
+  EXPECT_GT(green["20,200,30"], 100);
+  EXPECT_EQ(green["200,20,30"], 0);
+  testing::ToolRun run;
+  for (const char* bad : {"20,200", "20,200,300", "a,b,c", "20:200:30"}) {
+    run = run_tool("simulate-session", std::string("--family hook --color ") + bad + " -q -o " + (dir / "bad").string());
+    EXPECT_EQ(run.exit_code, 2) << bad;
+    EXPECT_NE(run.err.find("--color"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "bad")) << bad;
+  }
+}
+
 // --- Crops and the builtin descriptor ---------------------------------------------------------------------
 
 TEST(AppearanceCrops, MarginClippedToTheImage) {
