@@ -15,6 +15,7 @@
 #include <tuple>
 
 #include "run_tool.hpp"
+#include "toolinc/appearance/blob_mask.hpp"
 #include "toolinc/appearance/crops.hpp"
 #include "toolinc/appearance/learn_appearance.hpp"
 #include "toolinc/appearance/onnx_writer.hpp"
@@ -289,6 +290,27 @@ TEST(AppearanceRls, ClosedFormLeaveOneOutMatchesRefitting) {
   }
 }
 
+// Leaving out a group (a session's views) in closed form gives what refitting without the group does.
+TEST(AppearanceRls, LeaveGroupOutMatchesRefitting) {
+  for (const auto& [n, d] : std::vector<std::pair<int, int>>{{45, 6}, {24, 60}}) {  // primal and kernel form
+    SCOPED_TRACE(std::to_string(n) + " samples, " + std::to_string(d) + " dimensions");
+    Eigen::MatrixXd x;
+    std::vector<std::size_t> y, groups;
+    clusters(n, d, 9, x, y);
+    for (int i = 0; i < n; ++i) groups.push_back(static_cast<std::size_t>((i * 7) % 5));  // 5 mixed groups
+    const double lambda = 0.5;
+    const Eigen::MatrixXd scores = leave_group_out_scores(x, y, 3, groups, lambda);
+    Eigen::MatrixXd targets = -Eigen::MatrixXd::Ones(n, 3);
+    for (int i = 0; i < n; ++i) targets(i, static_cast<Eigen::Index>(y[i])) = 1;
+    for (std::size_t g = 0; g < 5; ++g) {
+      std::vector<int> in, out;
+      for (int i = 0; i < n; ++i) (groups[static_cast<std::size_t>(i)] == g ? out : in).push_back(i);
+      const Eigen::MatrixXd refit = ridge_predict(x(in, Eigen::all), targets(in, Eigen::all), lambda, x(out, Eigen::all));
+      EXPECT_LT((scores(out, Eigen::all) - refit).cwiseAbs().maxCoeff(), 1e-4) << "group " << g;
+    }
+  }
+}
+
 TEST(AppearanceRls, OneLabelIsAMethodError) {
   Eigen::MatrixXd x;
   std::vector<std::size_t> y;
@@ -305,6 +327,14 @@ TEST(AppearanceDecision, UnknownBelowScoreOrMargin) {
   const Decision d = decide(Eigen::RowVector3d(0.2, 0.6, -0.9), labels, {0.0, 0.3});
   EXPECT_EQ(d.label, "b");
   EXPECT_NEAR(d.margin, 0.4, 1e-12);
+}
+
+TEST(AppearanceDecision, SeparatingFloor) {
+  EXPECT_NEAR(separating_floor({0.5, 0.6, 0.7}, {-0.2, 0.1}), 0.3, 1e-12);  // midway between the two sets
+  // Overlapping: rejecting one known of two costs less than accepting the unknown.
+  EXPECT_NEAR(separating_floor({0.2, 0.6}, {0.3}), 0.45, 1e-12);
+  EXPECT_LT(separating_floor({0.5}, {0.9}), 0.5);  // every floor errs as much: the lowest, accepting all
+  EXPECT_THROW(separating_floor({}, {0.1}), std::invalid_argument);
 }
 
 // --- Recognition accuracy ---------------------------------------------------------------------------------
@@ -758,6 +788,17 @@ TEST(AppearanceCli, BadInputsFailCleanly) {
   expect_clean_failure(dir, "train --session " + session(ToolFamily::hoe, 0).string() + " --min-score 1", 2, "--min-score");
   expect_clean_failure(dir, "train --session " + session(ToolFamily::hoe, 0).string() + " --label unknown", 2, "unknown");
   expect_clean_failure(dir, classify, 2, "exactly one");
+  // A classifier of the earlier builtin descriptor is refused with a request to retrain; one from before
+  // the unknown floor was calibrated reads with the default thresholds.
+  Json old = read_json(classifier);
+  old["extractor"].erase("descriptor_version");
+  write_json((dir / "old.json").string(), old);
+  expect_clean_failure(dir, "classify --classifier " + (dir / "old.json").string() + " --features " +
+                                (dir / "short.txt").string(), 2, "retrain");
+  Json undecided = read_json(classifier);
+  undecided.erase("decision");
+  write_json((dir / "undecided.json").string(), undecided);
+  EXPECT_EQ(read_classifier((dir / "undecided.json").string()).decision.min_score, DecisionConfig{}.min_score);
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ double separating_floor(std::vector<double> known, std::vector<double> unknown) 
   std::sort(unknown.begin(), unknown.end());
   // A floor just above candidates[i - 1] (i = 0: below everything) rejects the known below it and
   // accepts the unknown above it.
-  double best_error = std::numeric_limits<double>::infinity(), floor = candidates.front() - 1e-9;
+  double best_error = std::numeric_limits<double>::infinity(), floor = 0;
   for (std::size_t i = 0; i <= candidates.size(); ++i) {
     const double at = i == 0 ? candidates.front() - 1 : i == candidates.size() ? candidates.back() + 1
                                                                                 : (candidates[i - 1] + candidates[i]) / 2;

@@ -56,13 +56,8 @@ std::size_t builtin_dimension(const BuiltinFeatureConfig& config);
 void check(const BuiltinFeatureConfig& config);
 
 // Features of an 8-bit BGR crop and the blob's mask in it (CV_8UC1, non-zero on the blob, the crop's
-// size); an empty mask is estimated with estimate_blob_mask.
+// size); an empty mask is estimated with estimate_blob_mask (blob_mask.hpp).
 Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& mask, const BuiltinFeatureConfig& config);
-
-// The blob where no mask was recorded (an image and a box): the crop's border is background (the crop
-// holds a margin around the object's box), so the pixels farther in colour from every border colour
-// than Otsu's threshold on those distances are foreground; the largest connected part of them is kept.
-cv::Mat estimate_blob_mask(const cv::Mat& bgr);
 
 // Every parameter, for the classifier file; and back (throws InputError(file, ...)).
 Json to_json(const BuiltinFeatureConfig& config);
