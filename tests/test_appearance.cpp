@@ -225,6 +225,16 @@ TEST(AppearanceBuiltin, UnitNormDeterministicAndColourOnlyInItsBlock) {
   BuiltinFeatureConfig bad;
   bad.size = 60;
   EXPECT_THROW(check(bad), std::invalid_argument);
+  bad = BuiltinFeatureConfig{};
+  bad.head_share = 0;
+  EXPECT_THROW(check(bad), std::invalid_argument);
+  // Every parameter survives the classifier file.
+  BuiltinFeatureConfig custom;
+  custom.head_share = 0.3, custom.radial_bins = 8;
+  const BuiltinFeatureConfig back = builtin_config_from_json(to_json(custom), "classifier.json");
+  EXPECT_EQ(back.head_share, 0.3);
+  EXPECT_EQ(back.radial_bins, 8);
+  EXPECT_EQ(to_json(back), to_json(custom));
 }
 
 // Without a recorded blob (an image and a box) the blob is estimated from the crop: compared with the

@@ -184,9 +184,10 @@ int positive_int(const Json& json, const std::string& key, const std::string& fi
 void check(const BuiltinFeatureConfig& c) {
   if (c.cell <= 0 || c.block <= 0 || c.orientation_bins <= 0 || c.radial_bins <= 0 || c.hue_bins <= 0 ||
       c.saturation_bins <= 0 || c.size % c.cell != 0 || c.coarse_size % c.cell != 0 || c.coarse_size / c.cell < c.block ||
-      c.coarse_size > c.size)
-    throw std::invalid_argument(fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px cells",
-                                            c.size, c.coarse_size, c.block, c.cell));
+      c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1))
+    throw std::invalid_argument(fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px "
+                                            "cells, or the head share {} is not in (0, 1]",
+                                            c.size, c.coarse_size, c.block, c.cell, c.head_share));
 }
 
 std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
@@ -234,7 +235,11 @@ Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& given_mask, 
 Json to_json(const BuiltinFeatureConfig& c) {
   return {{"name", "builtin"},
           {"descriptor_version", kBuiltinDescriptorVersion},
-          {"window", {{"size", c.size}, {"coarse_size", c.coarse_size}, {"alignment", "blob principal axes, third moments"}}},
+          {"window",
+           {{"size", c.size},
+            {"coarse_size", c.coarse_size},
+            {"head_share", c.head_share},
+            {"alignment", "blob principal axis, top end up, head's third moment across"}}},
           {"hog",
            {{"cell", c.cell},
             {"block", c.block},
@@ -258,6 +263,9 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
   BuiltinFeatureConfig c;
   c.size = positive_int(json["window"], "size", file);
   c.coarse_size = positive_int(json["window"], "coarse_size", file);
+  const Json& share = json["window"].value("head_share", Json());
+  if (!share.is_number()) throw InputError(file, "extractor: \"head_share\" must be a number");
+  c.head_share = share.get<double>();
   c.cell = positive_int(json["hog"], "cell", file);
   c.block = positive_int(json["hog"], "block", file);
   c.orientation_bins = positive_int(json["hog"], "orientation_bins", file);
