@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   double hand_radius = 0.06, noise = 0.0015;
   toolinc::ToolFrameConfig frame_config;
   toolinc::TooltipConfig tooltip_config;
-  std::string rule = "furthest";
+  std::string rule;  // add_tooltip_options sets its default
   auto& cli = command.cli();
   cli.add_option("models", models, "Canonical models (handle from the origin along -Y, effector +X)")->required();
   cli.add_option("--grasps", grasps, "Random grasps per model")->capture_default_str()->check(CLI::PositiveNumber);
@@ -42,8 +42,7 @@ int main(int argc, char** argv) {
     for (const auto& path : models) {
       const auto model = toolinc::load_cloud(path);
       const auto symmetry = toolinc::measure_symmetry(model.points);
-      const char* name = symmetry == toolinc::ToolSymmetry::mirror ? "mirror"
-                         : symmetry == toolinc::ToolSymmetry::front_back ? "front_back" : "axial";
+      const std::string name = toolinc::to_string(symmetry);
       toolinc::Rng rng(seed);
       std::vector<double> tips;
       double worst_handle = 0.0;
@@ -70,7 +69,7 @@ int main(int argc, char** argv) {
       const double median = toolinc::median(tips);
       const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
       const std::string base = path.substr(path.find_last_of('/') + 1);
-      std::fprintf(table, "%-16s %-10s %7d %7.2f° %7.1fmm %7.1fmm %6s\n", base.c_str(), name, grasps, worst_handle, 1000 * median,
+      std::fprintf(table, "%-16s %-10s %7d %7.2f° %7.1fmm %7.1fmm %6s\n", base.c_str(), name.c_str(), grasps, worst_handle, 1000 * median,
                   1000 * worst, symmetry == toolinc::ToolSymmetry::mirror ? (std::to_string(signs) + "/" + std::to_string(tips.size())).c_str() : "-");
       results.push_back({{"model", path}, {"symmetry", name}, {"cases", grasps}, {"failed", model_failed},
                          {"worst_handle_axis_deg", worst_handle}, {"median_tooltip_m", median}, {"worst_tooltip_m", worst},

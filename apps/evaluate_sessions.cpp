@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   double tip_tolerance = 0.010;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
-  std::string rule = "furthest";
+  std::string rule;  // add_tooltip_options sets its default
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
   cli.add_option("--first-seed", first_seed, "Seed of the first grasp; grasp g uses first-seed + g")

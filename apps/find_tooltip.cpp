@@ -8,7 +8,7 @@
 int main(int argc, char** argv) {
   toolinc::Command command("find-tooltip", "Find a held tool's tooltip from its cloud in the hand frame",
                            {"estimate-frame", "find-tooltip"});
-  std::string input, frame_file, rule = "furthest";
+  std::string input, frame_file, rule;  // add_tooltip_options sets its default
   toolinc::ToolFrameConfig frame_config;
   toolinc::TooltipConfig config;
   command.cli().add_option("cloud", input, "Tool cloud in the hand frame (PLY or PCD)")->required();

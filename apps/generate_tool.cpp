@@ -5,7 +5,7 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/synth/ground_truth_file.hpp"
 
 int main(int argc, char** argv) {
   toolinc::Command command("generate-tool", "Generate a procedural tool cloud with known ground truth");

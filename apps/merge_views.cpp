@@ -19,14 +19,7 @@ int main(int argc, char** argv) {
   cli.add_option("views", inputs, "View clouds in the hand frame; the first is the reference")->required();
   command.add_output("Output model PLY");
   cli.add_option("--report", report_file, "Merge report JSON: per view accepted or rejected, correction, why");
-  cli.add_option("--voxel-size", config.voxel_size, "Model grid (m)")->capture_default_str();
-  cli.add_option("--max-translation", config.max_translation, "Largest correction per axis (m)")->capture_default_str();
-  cli.add_option("--max-rotation-deg", config.max_rotation_deg, "Largest correction rotation (deg)")->capture_default_str();
-  cli.add_option("--min-inlier-ratio", config.min_inlier_ratio, "Share of a view that must land on the model")
-      ->capture_default_str();
-  cli.add_option("--min-points", config.min_points, "A view with fewer points is rejected")->capture_default_str();
-  cli.add_option("--max-correspondence", config.icp.max_correspondence, "ICP correspondence radius (m)")
-      ->capture_default_str();
+  toolinc::add_merge_options(cli, config);
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");
   return command.run(argc, argv, [&] {
     std::vector<toolinc::PointCloud> views;

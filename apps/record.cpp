@@ -1,6 +1,6 @@
 // record --robot icub --hand right --label hoe -o SESSION: the exploration on the robot (issue 6). Moves
 // the hand holding the tool through the exploration poses, fixates the tool and records each view into a
-// session (design.md). --backend yarp talks to the iCub's modules; --backend sim to the simulated robot.
+// session (docs/formats.md). --backend yarp talks to the iCub's modules; --backend sim to the simulated robot.
 #include <spdlog/spdlog.h>
 
 #include <atomic>

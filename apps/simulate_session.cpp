@@ -1,4 +1,4 @@
-// simulate-session -o SESSION: a recorded session made offline (design.md "Recorded session"): a
+// simulate-session -o SESSION: a recorded session made offline (docs/formats.md "Recorded session"): a
 // procedural or given tool held in the hand, explored in the original's five wrist poses and rendered as
 // the robot would record it, with ground_truth.json.
 #include <spdlog/spdlog.h>
@@ -28,12 +28,6 @@ toolinc::GrossError parse_gross_error(const std::string& text) {
   return gross;
 }
 
-toolinc::ToolSymmetry symmetry_from_string(const std::string& name) {
-  return name == "axial" ? toolinc::ToolSymmetry::axial
-         : name == "front_back" ? toolinc::ToolSymmetry::front_back
-                                : toolinc::ToolSymmetry::mirror;
-}
-
 // R,G,B in 0-255
 std::array<int, 3> parse_colour(const std::string& text) {
   std::istringstream in(text);
@@ -61,7 +55,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->excludes(family_option);
   cli.add_option("--symmetry", symmetry, "The model's symmetry")
-      ->check(CLI::IsMember({"mirror", "front_back", "axial"}))
+      ->check(CLI::IsMember({"mirror", "front_back", "fourfold", "axial"}))
       ->capture_default_str();
   cli.add_option("--seed", config.seed, "Seed of the grasp, the errors and the noise")->capture_default_str();
   cli.add_option("--grasp", grasp, "random (drawn from the seed) or canonical (identity)")
@@ -92,7 +86,7 @@ int main(int argc, char** argv) {
     } else {
       config.model = toolinc::load_cloud(model_file);
       config.model_name = std::filesystem::path(model_file).filename().string();
-      config.model_symmetry = symmetry_from_string(symmetry);
+      config.model_symmetry = toolinc::symmetry_from_string(symmetry);
     }
     if (grasp == "random") config.hand_from_canonical = toolinc::exploration_grasp(config.seed);
     if (!label.empty()) config.tool_label = label;

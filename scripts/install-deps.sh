@@ -9,6 +9,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev
   libgtest-dev libbenchmark-dev
   snakemake
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
 )
 
 missing=()

@@ -14,6 +14,7 @@
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/results_json.hpp"
+#include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/grasp.hpp"
 
 namespace toolinc {

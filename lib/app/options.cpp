@@ -47,6 +47,11 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
   cli.add_option("--symmetry-match-weight", c.symmetry_match_weight,
                  "Weight of a matched mirror image's distance against a contradicted image (1)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--blade-flatness", c.blade_flatness,
+                 "A head thinner (RMS) than this share of its width, its plane along the handle, is a blade")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--front-band", c.front_band, "Depth of the effector's front telling a face from a corner (m)")
+      ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--salience-ratio", c.salience_ratio, "Reach ratio that makes an effector side salient")
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));
   cli.add_option("--salience-min", c.salience_min, "Reach difference that makes an effector side salient (m)")
@@ -55,16 +60,79 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
 
 void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {
   const auto group = "Tooltip";
-  cli.add_option("--rule", rule, "furthest (paper: furthest in front, ties by distance from the hand) or weighted")
+  rule = to_string(c.rule);
+  cli.add_option("--rule", rule,
+                 "weighted (the original's 0.8 x in front + 0.2 x distance from the hand) or furthest (furthest "
+                 "in front, ties by distance from the hand)")
       ->capture_default_str()->group(group)->check(CLI::IsMember({"furthest", "weighted"}));
-  cli.add_option("--tie-tolerance", c.tie_tolerance, "furthest rule: points this close to the front tie (m)")
+  cli.add_option("--tie-tolerance", c.tie_tolerance, "Points scoring this close to the best tie (m)")
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
   cli.add_option("--effector-weight", c.effector_weight, "weighted rule: weight of the distance in front (0..1)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--smoothing-neighbors", c.smoothing_neighbors,
+                 "weighted rule: tied points compared by their this many nearest points' mean distance in front")
+      ->capture_default_str()->group(group)->check(CLI::Range(1, 1000));
   cli.add_option("--density-radius", c.density_radius, "Density check radius (m)")
       ->capture_default_str()->group(group)->check(CLI::PositiveNumber);
   cli.add_option("--min-neighbors", c.min_neighbors, "A tooltip needs more than this many neighbours")
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+}
+
+void add_merge_options(CLI::App& cli, MergeConfig& config) {
+  cli.add_option("--voxel-size", config.voxel_size, "Model grid (m)")->capture_default_str();
+  cli.add_option("--max-translation", config.max_translation, "Largest correction per axis (m)")->capture_default_str();
+  cli.add_option("--max-rotation-deg", config.max_rotation_deg, "Largest correction rotation (deg)")->capture_default_str();
+  cli.add_option("--min-inlier-ratio", config.min_inlier_ratio, "Share of a view that must land on the model")
+      ->capture_default_str();
+  cli.add_option("--min-points", config.min_points, "A view with fewer points is rejected")->capture_default_str();
+  cli.add_option("--max-correspondence", config.icp.max_correspondence, "ICP correspondence radius (m)")
+      ->capture_default_str();
+}
+
+void add_align_pose_options(CLI::App& cli, AlignPoseConfig& c) {
+  const auto group = "Alignment";
+  const auto positive = CLI::PositiveNumber;
+  cli.add_option("--hand-radius", c.hand_radius, "View points this close to the hand origin are the hand's (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--min-view-points", c.min_view_points, "Fewer resampled view points cannot fix a pose")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-extent-ratio", c.max_extent_ratio, "Model and view extents further apart: different units")
+      ->capture_default_str()->group(group)->check(CLI::Range(1.0, 1e6));
+  cli.add_option("--model-voxel", c.model_voxel, "Resampling of the model (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--view-voxel", c.view_voxel, "Resampling of the view (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--roll-step-deg", c.roll_step_deg, "Step of the rolls about the handle tried as hypotheses (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(1.0, 180.0));
+  cli.add_option("--refine-candidates", c.refine_candidates, "Distinct hypotheses refined fully")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-iterations", c.icp.max_iterations, "Iterations of the final ICP")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-correspondence", c.icp.max_correspondence, "Correspondence distance of the final ICP (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--inlier-distance", c.icp.inlier_distance, "View points this close to the model are inliers (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--max-translation", c.max_translation, "Feasible translation of the tool per axis (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--max-tilt-deg", c.max_tilt_deg, "Feasible tilt about the hand's Z (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 180.0));
+  cli.add_option("--max-roll-deg", c.max_roll_deg, "Feasible roll about the hand's X (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 90.0));
+  cli.add_option("--max-about-handle-deg", c.max_about_handle_deg, "Feasible rotation about the handle (deg)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 180.0));
+  cli.add_option("--ambiguity-margin", c.ambiguity_margin, "Poses scoring within this of the best fit as well")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+}
+
+PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const AlignPoseConfig& config,
+                        const std::string& model_file, const std::string& view_file) {
+  if (const std::string mismatch = unit_mismatch(model.points, view.points, config.max_extent_ratio); !mismatch.empty())
+    throw InputError(mismatch.rfind("the model", 0) == 0 ? model_file : view_file, mismatch);
+  try {
+    return PoseModel(model.points, config);
+  } catch (const MethodError& e) {
+    throw InputError(model_file, std::string("not usable as a tool model: ") + e.what());
+  }
 }
 
 PointCloud load_cloud(const std::string& path) {

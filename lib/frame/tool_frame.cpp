@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -209,6 +210,39 @@ Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle
   return {quantile(forward, q), quantile(backward, q)};
 }
 
+// A blade: a head that is a plate containing the handle's direction (shovel, spatula). Its points'
+// smallest principal spread is below blade-flatness times the middle one, and the plate's normal lies
+// within 30 degrees of perpendicular to the handle. The plate's normal, or nothing.
+std::optional<Vec3> blade_normal(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& y_axis,
+                                 const ToolFrameConfig& config) {
+  if (static_cast<int>(head.size()) < config.min_head_points) return std::nullopt;
+  const auto spread = scatter_of<3>(head.size(), [&](std::size_t j) { return cloud[head[j]]; });
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(spread.scatter);  // ascending
+  const Eigen::Vector3d& eigenvalues = solver.eigenvalues();
+  const Vec3 normal = solver.eigenvectors().col(0);
+  if (eigenvalues(0) > config.blade_flatness * config.blade_flatness * eigenvalues(1)) return std::nullopt;
+  if (std::abs(normal.dot(y_axis)) > 0.5) return std::nullopt;
+  return normal;
+}
+
+// Whether the effector's front along x_axis is a face rather than a corner: the effector-side points
+// within a band of the reach grow in number like the band on a face (a strip) and like its square at
+// a corner (a wedge). Bands of front-band and three times that: a ratio below 5 (between 3 and 9)
+// is a face. A square plate's mirror planes through its corners reach farther than those through its
+// edges' middles; the effector is the edge.
+bool front_is_face(const Points& cloud, const Vec3& centre, const Vec3& y_axis, const Vec3& x_axis, double band) {
+  std::vector<double> front;
+  for (const auto& p : cloud)
+    if ((p - centre).dot(y_axis) < 0) front.push_back(p.dot(x_axis));
+  const double reach = front.empty() ? 0.0 : *std::max_element(front.begin(), front.end());
+  int narrow = 0, wide = 0;
+  for (const double x : front) {
+    narrow += reach - x <= band;
+    wide += reach - x <= 3 * band;
+  }
+  return wide < 5 * std::max(narrow, 1);
+}
+
 // Golden-section search for the minimum of f on [lo, hi].
 template <typename F>
 double golden_minimum(F&& f, double lo, double hi, int iterations) {
@@ -297,18 +331,28 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
     frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
   // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
-  // basin of the sweep that scores as well as the best (within the tie margin) is refined, and the
-  // symmetry plane is the one across which the effector reaches farthest, since the effector axis is
-  // the head's forward extent.
+  // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
+  // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across
+  // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
+  // effector reaches farthest, since the effector axis is the head's forward extent.
   const auto& sweep = frame.symmetry_candidates;
-  double best_angle = 0.0, best_reach = -1.0;
+  const std::optional<Vec3> blade = blade_normal(cloud, head, y_axis, config);
+  frame.head_is_blade = blade.has_value();
+  // A front that is a corner, not a face, loses to one that is.
+  double best_angle = 0.0;
+  std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
   for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
     const double lowest = sweep[i].angle_deg * kDeg;
     const double angle = golden_minimum(score_at, lowest - step, lowest + step, 8);
-    const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, y_axis.cross(normal_at(angle)),
-                                   config.salience_quantile);
-    if (std::max(r.positive, r.negative) > best_reach) {
-      best_reach = std::max(r.positive, r.negative);
+    const Vec3 x_axis = y_axis.cross(normal_at(angle));
+    const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, x_axis, config.salience_quantile);
+    const bool forward = r.positive >= r.negative;
+    const bool face = front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis),
+                                    config.front_band);
+    const std::pair<bool, double> merit = blade ? std::pair{true, -std::abs(normal_at(angle).dot(*blade))}
+                                                : std::pair{face, std::max(r.positive, r.negative)};
+    if (merit > best_merit) {
+      best_merit = merit;
       best_angle = angle;
     }
   }

@@ -3,6 +3,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -48,30 +49,33 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   Tooltip tip;
   tip.candidates = static_cast<int>(candidates.size());
   std::uint32_t chosen = KdTree::npos;
-  if (config.rule == TooltipRule::weighted) {
-    by_score_desc(weighted);
-    for (auto i : candidates) {
-      if (dense(i)) {
-        chosen = i;
-        break;
-      }
-      ++tip.rejected_sparse;
-    }
-  } else {
-    by_score_desc(front);
-    auto first_dense = std::find_if(candidates.begin(), candidates.end(), dense);
-    tip.rejected_sparse = static_cast<int>(first_dense - candidates.begin());
-    if (first_dense != candidates.end()) {
-      const double cutoff = front(*first_dense) - config.tie_tolerance;
-      std::vector<std::uint32_t> tied(first_dense, std::find_if(first_dense, candidates.end(),
-                                                                [&](std::uint32_t i) { return front(i) < cutoff; }));
-      std::sort(tied.begin(), tied.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const double da = points[a].squaredNorm(), db = points[b].squaredNorm();
-        return da > db || (da == db && a < b);
-      });
-      chosen = *std::find_if(tied.begin(), tied.end(), dense);  // tied[...] contains *first_dense
-    }
+  // Points scoring within tie-tolerance (about 3 sigma of the noise) of the best dense point tie: noise,
+  // not the shape, decides which of them scores best.
+  const auto primary = [&](std::uint32_t i) { return config.rule == TooltipRule::weighted ? weighted(i) : front(i); };
+  by_score_desc(primary);
+  auto first_dense = std::find_if(candidates.begin(), candidates.end(), dense);
+  tip.rejected_sparse = static_cast<int>(first_dense - candidates.begin());
+  std::vector<std::uint32_t> tied;
+  if (first_dense != candidates.end()) {
+    const double cutoff = primary(*first_dense) - config.tie_tolerance;
+    for (auto it = first_dense; it != candidates.end() && primary(*it) >= cutoff; ++it)
+      if (dense(*it)) tied.push_back(*it);
   }
+  // The tie-break. furthest: the point farthest from the hand. weighted: the point whose
+  // smoothing-neighbors nearest points score best on average. Along a flat front the weighted score
+  // changes by only (1 - w) per metre, so a point's own noise moves its maximum by several times that
+  // noise; the mean's noise is about 3 times smaller, its bias second order in the neighbourhood's size.
+  const auto tie_break = [&](std::uint32_t i) {
+    if (config.rule == TooltipRule::furthest) return points[i].squaredNorm();
+    double sum = 0.0;
+    const auto near = tree.knn(points[i], config.smoothing_neighbors);
+    for (const auto& n : near) sum += front(n.index);
+    return config.effector_weight * sum / static_cast<double>(near.size()) +
+           (1.0 - config.effector_weight) * points[i].norm();
+  };
+  double best = -std::numeric_limits<double>::infinity();
+  for (auto i : tied)
+    if (const double t = tie_break(i); t > best) best = t, chosen = i;
   if (chosen == KdTree::npos)
     throw MethodError(fmt::format("no tooltip: none of the {} effector-side points has more than {} "
                                   "neighbours within {} m", candidates.size(), config.min_neighbors,

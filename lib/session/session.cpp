@@ -1,4 +1,4 @@
-// Session folders (design.md "Recorded session"): JSON with a fixed key order and PNG/PCD files, so the
+// Session folders (docs/formats.md "Recorded session"): JSON with a fixed key order and PNG/PCD files, so the
 // same session always has the same bytes; reading checks everything a later tool would trip over and
 // names the file.
 #include "toolinc/session/session.hpp"

@@ -84,8 +84,12 @@ ToolSymmetry measure_symmetry(const Points& canonical) {
   const double reference = scorer.score(Vec3::UnitZ(), centre);  // the canonical mirror plane
   const auto symmetric = [&](const Vec3& normal) { return scorer.score(normal, centre) <= reference + 0.05; };
   if (!symmetric(Vec3::UnitX())) return ToolSymmetry::mirror;
-  return symmetric(Vec3(1, 0, 1).normalized()) && symmetric(Vec3(1, 0, -1).normalized()) ? ToolSymmetry::axial
-                                                                                         : ToolSymmetry::front_back;
+  if (!symmetric(Vec3(1, 0, 1).normalized()) || !symmetric(Vec3(1, 0, -1).normalized())) return ToolSymmetry::front_back;
+  // Mirror planes every 45 degrees: a square or a cross, unless planes in between are mirrors too (round).
+  const double a = M_PI / 8;
+  return symmetric(Vec3(std::cos(a), 0, std::sin(a))) && symmetric(Vec3(std::cos(3 * a), 0, -std::sin(3 * a)))
+             ? ToolSymmetry::axial
+             : ToolSymmetry::fourfold;
 }
 
 }  // namespace toolinc

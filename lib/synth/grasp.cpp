@@ -89,6 +89,11 @@ ToolGroundTruth tool_ground_truth(const Points& model, ToolSymmetry symmetry, co
   };
   truth.tooltips.push_back(best_tip(+1.0));
   if (symmetry == ToolSymmetry::front_back) truth.tooltips.push_back(best_tip(-1.0));
+  if (symmetry == ToolSymmetry::fourfold) {  // the tip turned by quarter turns about the handle
+    const Vec3 tip = rotation.transpose() * (truth.tooltips.front() - translation);
+    for (int k = 1; k < 4; ++k)
+      truth.tooltips.push_back(rotation * (Eigen::AngleAxisd(k * M_PI / 2, Vec3::UnitY()) * tip) + translation);
+  }
   return truth;
 }
 
@@ -100,7 +105,10 @@ double tooltip_error(const ToolGroundTruth& truth, const Vec3& estimate) {
     if (truth.symmetry == ToolSymmetry::axial) {
       const Vec3 e = rotation.transpose() * (estimate - translation);
       const Vec3 t = rotation.transpose() * (tip - translation);
-      error = std::min(error, std::hypot(e.y() - t.y(), std::hypot(e.x(), e.z()) - std::hypot(t.x(), t.z())));
+      // Any turn about the handle is right, and so is any point between the axis and the rim at the
+      // tip's height: on a round stick the paper's rule cannot tell them apart.
+      const double beyond_rim = std::max(0.0, std::hypot(e.x(), e.z()) - std::hypot(t.x(), t.z()));
+      error = std::min(error, std::hypot(e.y() - t.y(), beyond_rim));
     } else {
       error = std::min(error, (estimate - tip).norm());
     }

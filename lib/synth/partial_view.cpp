@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/rigid.hpp"
@@ -64,8 +65,14 @@ PoseErrors pose_errors(const PartialViewCase& c, const Eigen::Matrix4d& estimate
       e.rotation_deg = std::acos(std::clamp(d(1, 1), -1.0, 1.0)) * 180.0 / M_PI;
       break;
     case ToolSymmetry::front_back:
-      e.rotation_deg = std::min(rotation_angle_deg(d), rotation_angle_deg(d * Eigen::AngleAxisd(M_PI, Vec3::UnitY())));
+    case ToolSymmetry::fourfold: {  // the nearest of the turns about the handle that map the tool onto itself
+      const int turns = c.truth.symmetry == ToolSymmetry::fourfold ? 4 : 2;
+      e.rotation_deg = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < turns; ++k)
+        e.rotation_deg = std::min(e.rotation_deg,
+                                  rotation_angle_deg(d * Eigen::AngleAxisd(2 * M_PI * k / turns, Vec3::UnitY())));
       break;
+    }
     case ToolSymmetry::mirror:
       e.rotation_deg = rotation_angle_deg(d);
       break;

@@ -12,7 +12,7 @@
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/core/rigid.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/render.hpp"
 

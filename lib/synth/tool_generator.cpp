@@ -344,6 +344,22 @@ ToolSymmetry symmetry_of(ToolFamily family) {
   }
 }
 
+std::string to_string(ToolSymmetry symmetry) {
+  switch (symmetry) {
+    case ToolSymmetry::mirror: return "mirror";
+    case ToolSymmetry::front_back: return "front_back";
+    case ToolSymmetry::fourfold: return "fourfold";
+    case ToolSymmetry::axial: return "axial";
+  }
+  throw std::invalid_argument("unknown tool symmetry");
+}
+
+ToolSymmetry symmetry_from_string(const std::string& name) {
+  for (ToolSymmetry s : {ToolSymmetry::mirror, ToolSymmetry::front_back, ToolSymmetry::fourfold, ToolSymmetry::axial})
+    if (to_string(s) == name) return s;
+  throw std::invalid_argument("unknown tool symmetry '" + name + "' (known: mirror, front_back, fourfold, axial)");
+}
+
 bool has_salient_effector(ToolFamily family) { return symmetry_of(family) == ToolSymmetry::mirror; }
 
 ToolShape default_shape(ToolFamily family) {

@@ -1,4 +1,4 @@
-// The conventions every executable shares (design.md): --help, --version, -o/--output, -c/--config
+// The conventions every executable shares (docs/formats.md): --help, --version, -o/--output, -c/--config
 // (JSON with the same keys as the long options; the command line wins), -v/-q, logging to stderr, and
 // exit codes 0 ok, 2 bad usage or input, 3 method failed on valid input, 1 internal error.
 #pragma once

@@ -7,11 +7,21 @@
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
+#include "toolinc/registration/align_pose.hpp"
+#include "toolinc/registration/merge_views.hpp"
 
 namespace toolinc {
 
 void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& config);
+// rule: the --rule option's string, set to config.rule's name as its default.
 void add_tooltip_options(CLI::App& cli, TooltipConfig& config, std::string& rule);
+void add_merge_options(CLI::App& cli, MergeConfig& config);
+void add_align_pose_options(CLI::App& cli, AlignPoseConfig& config);
+
+// The model align-pose fits a view to. Throws InputError naming the file when model and view are in
+// different units or the model is not usable as a tool model (its frame cannot be estimated).
+PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const AlignPoseConfig& config,
+                        const std::string& model_file, const std::string& view_file);
 
 // Reads a cloud, logs what was read (and how many non-finite points were dropped), and rejects a cloud
 // with no finite point as bad input.

@@ -1,4 +1,4 @@
-// The classifier file (design.md "classifier"): type "classifier", version 1, the labels, the feature
+// The classifier file (docs/formats.md "classifier"): type "classifier", version 1, the labels, the feature
 // extractor with everything needed to reproduce it (for a network, the model's SHA-256), the chosen
 // lambda and how it was chosen, the unknown thresholds and how they were chosen, and per label the weights and bias of its linear score.
 #pragma once

@@ -40,7 +40,7 @@ struct ClassifyInput {
   std::string features;          // a file of feature rows
 };
 
-// The classification result (design.md); exactly one of session, image (with bbox) or features.
+// The classification result (docs/formats.md); exactly one of session, image (with bbox) or features.
 // Throws std::invalid_argument on a bad combination, InputError naming the file on bad input (including
 // features whose length is not the classifier's, or images given to a classifier of external features).
 Json classify_appearance(const AppearanceClassifier& classifier, const std::string& classifier_path,

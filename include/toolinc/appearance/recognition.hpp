@@ -1,4 +1,4 @@
-// From scores to an answer (design.md "classification"): per sample the best-scoring label, and over
+// From scores to an answer (docs/formats.md "classification"): per sample the best-scoring label, and over
 // all samples the label of the averaged scores (the robot averaged over a buffer of frames); "unknown"
 // when the best score is below min_score or within min_margin of the second best.
 #pragma once

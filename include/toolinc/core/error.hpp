@@ -1,4 +1,4 @@
-// The two failures users must tell apart (design.md exit codes):
+// The two failures users must tell apart (docs/formats.md exit codes):
 // InputError  -> exit 2: unreadable or malformed input; the message names the file and the problem.
 // MethodError -> exit 3: valid input on which the method cannot produce an acceptable result.
 #pragma once

@@ -1,4 +1,4 @@
-// The tool's intrinsic frame (paper sect. 4.1-4.2, design.md): origin at the centre of mass, X the
+// The tool's intrinsic frame (paper sect. 4.1-4.2, docs/formats.md): origin at the centre of mass, X the
 // effector axis (towards the salient side of the effector), Y the handle axis (towards the hand), Z the
 // symmetry axis = X x Y. Always right-handed.
 #pragma once
@@ -44,6 +44,11 @@ struct ToolFrameConfig {
   double head_line_elongation = 16.0; // a head whose points, seen along the handle, spread this many
                                     //    times more (variance) along a line than across it is a bar:
                                     //    the symmetry plane near that line contains it
+  double blade_flatness = 0.3;      // a head whose RMS thickness is below this share of its width,
+                                    //    its plane along the handle, is a blade (shovel, spatula)
+  double front_band = 0.01;         // m: depth of the effector's front when telling a face (its points
+                                    //    grow like the depth) from a corner (like its square); deeper than the
+                                    //    noise lifts the foremost point (~3 sigma)
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
   double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
@@ -79,6 +84,7 @@ struct ToolFrame {
   double effector_reach_positive = 0.0;   // m, along +X from the handle axis
   double effector_reach_negative = 0.0;   // m, along -X
   bool salient_effector = false;
+  bool head_is_blade = false;             // the head is a plate along the handle (see blade_flatness)
   int points_input = 0, points_outside_hand = 0, points_used = 0;
 
   Eigen::Matrix4d hand_from_tool() const;

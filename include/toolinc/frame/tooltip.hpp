@@ -17,10 +17,12 @@ TooltipRule tooltip_rule_from_string(const std::string& name);  // throws std::i
 std::string to_string(TooltipRule rule);
 
 struct TooltipConfig {
-  TooltipRule rule = TooltipRule::furthest;
-  double tie_tolerance = 0.005;  // m: "furthest" points within this of the front are tied (~3 sigma of
-                                 //    the stereo noise); the tie goes to the point farthest from the hand
+  TooltipRule rule = TooltipRule::weighted;
+  double tie_tolerance = 0.005;  // m: points scoring within this of the best are tied (~3 sigma of the
+                                 //    stereo noise); furthest: the tie goes to the point farthest from the hand
   double effector_weight = 0.8;  // w of the weighted rule (the original's value)
+  int smoothing_neighbors = 10;  // weighted rule: tied points are compared with their distance in front
+                                 //    averaged over this many nearest points (noise down by about 3)
   double density_radius = 0.02;  // m: a candidate needs more than min_neighbors points within this,
   int min_neighbors = 20;        //    so isolated outliers are never the tooltip (the original's check)
   double hand_radius = 0.06;     // m: points this close to the hand origin are ignored

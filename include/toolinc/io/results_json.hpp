@@ -1,4 +1,4 @@
-// The tool_frame and tooltip result files (design.md "Files the executables exchange").
+// The result files the executables exchange: tool_frame, tool_pose, tooltip, merge_report (docs/formats.md).
 #pragma once
 
 #include <string>
@@ -8,7 +8,6 @@
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/registration/align_pose.hpp"
 #include "toolinc/registration/merge_views.hpp"
-#include "toolinc/synth/grasp.hpp"
 
 namespace toolinc {
 
@@ -27,10 +26,6 @@ Json tool_pose_json(const PoseResult& result, const AlignPoseConfig& config, con
 Eigen::Matrix4d read_tool_pose(const std::string& path);
 
 Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config);
-
-// Ground truth of a synthetic held tool: the grasp, the true tool frame and tooltip(s) in the hand frame.
-Json ground_truth_json(const ToolGroundTruth& truth, const ToolShape& shape);
-ToolGroundTruth read_ground_truth(const std::string& path);
 
 // The merge report: per input view accepted or rejected, its correction and why; `failure` non-empty
 // when the merge as a whole failed (then "ok" is false).

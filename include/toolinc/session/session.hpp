@@ -1,4 +1,4 @@
-// A recorded session (design.md "Recorded session"): what `record` writes on the robot and the
+// A recorded session (docs/formats.md "Recorded session"): what `record` writes on the robot and the
 // simulator writes offline, and what crop-cloud reads.
 #pragma once
 

@@ -46,7 +46,8 @@ struct SessionErrors {
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& session, const PipelineConfig& pipeline = {});
 
 // The symmetry class of a canonical model, measured: mirror symmetric about x = 0 too -> front_back,
-// and also about the planes at 45 degrees -> axial; otherwise mirror (salient effector along +X).
+// also about the planes at 45 degrees -> fourfold, and also at 22.5 and 67.5 degrees -> axial;
+// otherwise mirror (salient effector along +X).
 ToolSymmetry measure_symmetry(const Points& canonical);
 
 }  // namespace toolinc

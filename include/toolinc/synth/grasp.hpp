@@ -57,7 +57,8 @@ ToolGroundTruth tool_ground_truth(const Points& canonical_model, ToolSymmetry sy
                                   const Eigen::Matrix4d& hand_from_canonical, double effector_weight = 0.8);
 
 // Distance from an estimated tooltip (hand frame) to the nearest equivalent true one; for axially
-// symmetric tools, measured in cylindrical coordinates about the handle.
+// symmetric tools, in cylindrical coordinates about the handle, any point from the axis to the true
+// tip's radius at its height counting as right.
 double tooltip_error(const ToolGroundTruth& truth, const Vec3& estimate);
 // Angle between an estimated handle axis and the true one, in degrees.
 double handle_axis_error_deg(const ToolGroundTruth& truth, const Vec3& handle_axis);

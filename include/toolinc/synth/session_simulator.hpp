@@ -33,7 +33,7 @@ struct GrossError {
 
 struct SessionSimulatorConfig {
   // The tool: a procedural shape, or, when `model` is not empty, that cloud in the canonical pose
-  // (design.md) with the symmetry given here; model_name is recorded in the ground truth.
+  // (docs/formats.md) with the symmetry given here; model_name is recorded in the ground truth.
   ToolShape shape = default_shape(ToolFamily::hoe);
   PointCloud model;
   std::string model_name;

@@ -1,4 +1,4 @@
-// Procedural tools in the canonical pose (design.md): the handle starts at the origin (the hand) and
+// Procedural tools in the canonical pose (docs/formats.md): the handle starts at the origin (the hand) and
 // runs along -Y, the effector points towards +X, and every tool is mirror-symmetric about z = 0.
 // Points are sampled uniformly on the outer surface with outward normals.
 #pragma once
@@ -16,7 +16,8 @@ enum class ToolFamily { stick, hoe, hook, rake, shovel, l_stick, t_bar, flat_top
 // Which symmetries besides the mirror about z = 0 a family has; ground truth comparisons use it.
 enum class ToolSymmetry {
   mirror,      // only z = 0: the effector has a salient side (+X)
-  front_back,  // also x = 0: either end of the head counts (T, flat-top)
+  front_back,  // also x = 0 (a half turn about the handle): either end of the head counts (T, flat-top)
+  fourfold,    // also quarter turns about the handle: any of four tips counts (square plate, cross)
   axial,       // any rotation about the handle (stick)
 };
 
@@ -37,6 +38,9 @@ std::string to_string(ToolFamily family);
 // Throws std::invalid_argument listing the known names.
 ToolFamily family_from_string(const std::string& name);
 ToolSymmetry symmetry_of(ToolFamily family);
+std::string to_string(ToolSymmetry symmetry);  // mirror, front_back, fourfold, axial
+// Throws std::invalid_argument listing the known names.
+ToolSymmetry symmetry_from_string(const std::string& name);
 bool has_salient_effector(ToolFamily family);  // symmetry_of(family) == ToolSymmetry::mirror
 
 // The shape a family has when nothing else is said (similar in size to the original's tools).

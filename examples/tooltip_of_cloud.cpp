@@ -1,0 +1,24 @@
+// tooltip_of_cloud CLOUD: the tool frame and tooltip of a cloud in the hand frame (PLY or PCD), as
+// find-tooltip computes them with its default options.
+#include <cstdio>
+#include <exception>
+
+#include "toolinc/frame/tool_frame.hpp"
+#include "toolinc/frame/tooltip.hpp"
+#include "toolinc/io/cloud_io.hpp"
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: tooltip_of_cloud CLOUD\n");
+    return 2;
+  }
+  try {
+    const toolinc::PointCloud cloud = toolinc::read_cloud(argv[1]);
+    const toolinc::ToolFrame frame = toolinc::estimate_tool_frame(cloud.points, {}, cloud.viewpoints);
+    const toolinc::Tooltip tip = toolinc::find_tooltip(cloud.points, frame);
+    std::printf("tooltip %.17g %.17g %.17g\n", tip.position.x(), tip.position.y(), tip.position.z());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tooltip_of_cloud: %s\n", e.what());
+    return 2;
+  }
+}
