@@ -20,6 +20,7 @@
 #include "toolinc/appearance/learn_appearance.hpp"
 #include "toolinc/appearance/onnx_writer.hpp"
 #include "toolinc/appearance/sha256.hpp"
+#include "toolinc/appearance/unknown_floor.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/io/atomic_file.hpp"
@@ -339,12 +340,39 @@ TEST(AppearanceDecision, UnknownBelowScoreOrMargin) {
   EXPECT_NEAR(d.margin, 0.4, 1e-12);
 }
 
-TEST(AppearanceDecision, SeparatingFloor) {
-  EXPECT_NEAR(separating_floor({0.5, 0.6, 0.7}, {-0.2, 0.1}), 0.3, 1e-12);  // midway between the two sets
-  // Overlapping: rejecting one known of two costs less than accepting the unknown.
-  EXPECT_NEAR(separating_floor({0.2, 0.6}, {0.3}), 0.45, 1e-12);
-  EXPECT_LT(separating_floor({0.5}, {0.9}), 0.5);  // every floor errs as much: the lowest, accepting all
-  EXPECT_THROW(separating_floor({}, {0.1}), std::invalid_argument);
+// The unknown floor turns away at most known_rejection of the known sessions when each is left out of
+// training, whatever it does to unknown ones: clusters of four labels, five sessions each, the views of a
+// session scattered about the session's own offset from its label's centre.
+TEST(AppearanceDecision, UnknownFloorBoundsKnownRejection) {
+  Rng rng(7);
+  const int labels = 4, sessions_per_label = 5, views = 4, dimension = 12;
+  Eigen::MatrixXd x(labels * sessions_per_label * views, dimension);
+  std::vector<std::size_t> targets, groups;
+  std::vector<Eigen::VectorXd> centres;
+  for (int l = 0; l < labels; ++l) centres.push_back(3.0 * Eigen::VectorXd::NullaryExpr(dimension, [&] { return rng.gaussian(); }));
+  for (int l = 0; l < labels; ++l)
+    for (int g = 0; g < sessions_per_label; ++g) {
+      const Eigen::VectorXd session = centres[l] + Eigen::VectorXd::NullaryExpr(dimension, [&] { return rng.gaussian(); });
+      for (int v = 0; v < views; ++v) {
+        x.row(static_cast<Eigen::Index>(targets.size())) =
+            (session + 0.3 * Eigen::VectorXd::NullaryExpr(dimension, [&] { return rng.gaussian(); })).transpose();
+        targets.push_back(static_cast<std::size_t>(l)), groups.push_back(static_cast<std::size_t>(l * sessions_per_label + g));
+      }
+    }
+  const std::vector<std::string> names = {"a", "b", "c", "d"};
+  const RlsModel model = train_rls(x, targets, names);
+  for (const double share : {0.0, 0.05, 0.5}) {
+    Json summary;
+    const DecisionConfig decision = calibrate_decision(x, targets, names, groups, true, model, {}, {share}, summary);
+    EXPECT_LE(summary["known_rejected"].get<double>(), share + 1e-12) << share;
+    EXPECT_EQ(summary["known_groups"], labels * sessions_per_label);
+    EXPECT_EQ(summary["unknown_groups"], labels * sessions_per_label);
+    EXPECT_LE(decision.min_score, DecisionConfig{}.min_score);  // never above the default
+  }
+  Json summary;
+  EXPECT_THROW(calibrate_decision(x, targets, names, groups, true, model, {}, {1.0}, summary), std::invalid_argument);
+  // Not from sessions: the defaults.
+  EXPECT_EQ(calibrate_decision(x, targets, names, groups, false, model, {}, {}, summary).min_score, DecisionConfig{}.min_score);
 }
 
 // --- Recognition accuracy ---------------------------------------------------------------------------------
@@ -390,7 +418,9 @@ AppearanceClassifier train_on(const std::vector<std::string>& dirs) {
 // Issue 18 asks for >= 90 % of views and >= 11 of 12 sessions with grey tools, >= 95 % of views with
 // palette colours; the builtin descriptor does not reach it (README): the floors asserted here are what
 // it measures less about 1.5 binomial standard deviations (60 views: sd 6 %), to catch a regression.
-void expect_recognised(Paint paint, double view_floor, int session_floor) {
+// known_floor: the sessions the classifier must still answer right with its own unknown floor (the
+// default users get).
+void expect_recognised(Paint paint, double view_floor, int session_floor, int known_floor) {
   const AppearanceClassifier classifier = train_on(sessions(kTools, kTrainGrasps, paint));
   ASSERT_EQ(classifier.model.labels.size(), kTools.size());
   Tally with_unknown, best_label;
@@ -402,33 +432,53 @@ void expect_recognised(Paint paint, double view_floor, int session_floor) {
   ::testing::Test::RecordProperty(std::string(to_string(paint)) + "_view_accuracy", std::to_string(best_label.view_rate()));
   EXPECT_GE(best_label.view_rate(), view_floor);
   EXPECT_GE(best_label.sessions_right, session_floor);
+  EXPECT_GE(with_unknown.sessions_right, known_floor);
 }
 
-TEST(AppearanceAccuracy, SameColouredToolsToldApartByShape) { expect_recognised(Paint::grey, 0.55, 9); }
+TEST(AppearanceAccuracy, SameColouredToolsToldApartByShape) { expect_recognised(Paint::grey, 0.55, 9, 9); }
 
-TEST(AppearanceAccuracy, PaletteColouredToolsRecognised) { expect_recognised(Paint::palette, 0.55, 9); }
+TEST(AppearanceAccuracy, PaletteColouredToolsRecognised) { expect_recognised(Paint::palette, 0.55, 9, 9); }
 
-// Each family in turn left out of training (palette colours): its five grasps should be answered unknown
-// (issue 18: >= 80 % of sessions), while the other families' test grasps are still recognised (issue 18:
-// >= 90 %). The floor is the classifier's own (calibrate_decision). The descriptor meets the first and
-// not the second: the floor that keeps unknown tools out also turns away most known ones (README).
-TEST(AppearanceAccuracy, FamilyLeftOutAnsweredUnknown) {
+// Each family its own colour, as the simulator painted tools before issue 18: what users had must not
+// regress, with the default (calibrated) unknown floor too.
+TEST(AppearanceAccuracy, FamilyColouredToolsRecognised) { expect_recognised(Paint::family, 0.95, 12, 12); }
+
+// Each family in turn left out of training: its five grasps should be answered unknown (issue 18: >= 80 %
+// of sessions), while the other families' test grasps are still recognised (issue 18: >= 90 %), with the
+// classifier's own floor (calibrate_decision: it turns away at most 5 % of the known sessions left out of
+// training, and is never above the default 0). Printed for each way of painting; returns the two tallies.
+std::pair<Tally, Tally> leave_family_out(Paint paint) {
   Tally unknown, known;
   for (const auto out : kTools) {
     std::vector<ToolFamily> others;
     for (const auto family : kTools)
       if (family != out) others.push_back(family);
-    const AppearanceClassifier classifier = train_on(sessions(others, kTrainGrasps, Paint::palette));
+    const AppearanceClassifier classifier = train_on(sessions(others, kTrainGrasps, paint));
     Tally u, k;
-    tally(classifier, sessions({out}, {0, 1, 2, 3, 4}, Paint::palette), classifier.decision, kUnknownLabel, u);
-    tally(classifier, sessions(others, kTestGrasps, Paint::palette), classifier.decision, "", k);
-    std::cout << to_string(out) << " left out: floor " << classifier.decision.min_score << " ("
-              << classifier.decision_summary.dump() << "); unknown " << u.text() << "; known " << k.text() << '\n';
+    tally(classifier, sessions({out}, {0, 1, 2, 3, 4}, paint), classifier.decision, kUnknownLabel, u);
+    tally(classifier, sessions(others, kTestGrasps, paint), classifier.decision, "", k);
+    std::cout << to_string(paint) << ", " << to_string(out) << " left out: floor " << classifier.decision.min_score
+              << " (" << classifier.decision_summary.dump() << "); unknown " << u.text() << "; known " << k.text() << '\n';
     unknown += u, known += k;
   }
-  std::cout << "left-out families answered unknown: " << unknown.text() << "; known families right: " << known.text() << '\n';
-  EXPECT_GE(unknown.session_rate(), 0.80);
-  EXPECT_GE(known.session_rate(), 0.20);
+  std::cout << to_string(paint) << ": left-out families answered unknown: " << unknown.text()
+            << "; known families right: " << known.text() << '\n';
+  return {unknown, known};
+}
+
+// Issue 18 asks for >= 80 % of the left-out sessions unknown with >= 90 % of the known right. Measured
+// (README): each family its own colour (a family never seen has a colour never seen), known 60/60 right,
+// unknown 22/30 (73 %); palette colours, known 49/60 (82 %), unknown 8/30 (27 %): the shape descriptor's
+// scores for known tools in new grasps overlap those of tools never seen, and the floor keeps the known
+// right first. Asserted: the issue's 90 % of known with family colours (met), and regression floors about
+// 1.5 binomial standard deviations below what is measured for the rest (30 sessions: sd 8 %; 60: 5 %).
+TEST(AppearanceAccuracy, FamilyLeftOutAnsweredUnknown) {
+  const auto [family_unknown, family_known] = leave_family_out(Paint::family);
+  EXPECT_GE(family_known.session_rate(), 0.90);
+  EXPECT_GE(family_unknown.session_rate(), 0.60);
+  const auto [palette_unknown, palette_known] = leave_family_out(Paint::palette);
+  EXPECT_GE(palette_known.session_rate(), 0.72);
+  EXPECT_GE(palette_unknown.session_rate(), 0.15);
 }
 
 // Ablation on the same crops: the classifier trained on the shape blocks, on the colour block, and on both,

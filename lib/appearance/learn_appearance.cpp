@@ -132,7 +132,7 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
                100.0 * model.loo_accuracy);
   Json calibration;
   const bool sessions_only = sources.images.empty() && !database;
-  const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, sessions_only, model, rls, calibration);
+  const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, sessions_only, model, rls, {}, calibration);
   if (extractor.name() == "builtin") {  // the weight moves into the colour rows: the extractor stays as it is
     const FeatureBlock colour = builtin_blocks(extractor.builtin_config()).back();
     model.weights.middleRows(colour.start, colour.size) *= block_weights["colour"].get<double>();

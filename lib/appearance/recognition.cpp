@@ -1,7 +1,5 @@
 #include "toolinc/appearance/recognition.hpp"
 
-#include <algorithm>
-#include <limits>
 #include <stdexcept>
 
 namespace toolinc {
@@ -14,28 +12,6 @@ Json score_object(const std::vector<std::string>& labels, const Eigen::RowVector
 }
 
 }  // namespace
-
-double separating_floor(std::vector<double> known, std::vector<double> unknown) {
-  if (known.empty() || unknown.empty()) throw std::invalid_argument("separating_floor: no scores");
-  std::vector<double> candidates = known;
-  candidates.insert(candidates.end(), unknown.begin(), unknown.end());
-  std::sort(candidates.begin(), candidates.end());
-  std::sort(known.begin(), known.end());
-  std::sort(unknown.begin(), unknown.end());
-  // A floor just above candidates[i - 1] (i = 0: below everything) rejects the known below it and
-  // accepts the unknown above it.
-  double best_error = std::numeric_limits<double>::infinity(), floor = 0;
-  for (std::size_t i = 0; i <= candidates.size(); ++i) {
-    const double at = i == 0 ? candidates.front() - 1 : i == candidates.size() ? candidates.back() + 1
-                                                                                : (candidates[i - 1] + candidates[i]) / 2;
-    const auto known_rejected = std::lower_bound(known.begin(), known.end(), at) - known.begin();
-    const auto unknown_accepted = unknown.end() - std::lower_bound(unknown.begin(), unknown.end(), at);
-    const double error = static_cast<double>(known_rejected) / known.size() +
-                         static_cast<double>(unknown_accepted) / unknown.size();
-    if (error < best_error) best_error = error, floor = at;
-  }
-  return floor;
-}
 
 Decision decide(const Eigen::RowVectorXd& scores, const std::vector<std::string>& labels, const DecisionConfig& config) {
   if (scores.size() != static_cast<Eigen::Index>(labels.size()) || labels.size() < 2)

@@ -56,24 +56,29 @@ Eigen::MatrixXd target_matrix(const std::vector<std::size_t>& targets, std::size
   return y;
 }
 
-}  // namespace
-
-RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
-                   const std::vector<std::string>& labels, const RlsConfig& config) {
+// train_rls's argument checks (see rls.hpp).
+void check_training(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                    const std::vector<std::string>& labels, const RlsConfig& config) {
   const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
   if (static_cast<std::size_t>(n) != targets.size()) throw std::invalid_argument("train_rls: one target per row");
   if (config.lambda_count < 1 || !(config.lambda_min_ratio > 0) || !(config.lambda_max_ratio >= config.lambda_min_ratio))
     throw std::invalid_argument("train_rls: bad lambda range");
-  const Eigen::MatrixXd y = target_matrix(targets, labels.size());
   Eigen::VectorXi count = Eigen::VectorXi::Zero(classes);
-  for (const std::size_t target : targets) ++count[static_cast<Eigen::Index>(target)];
+  for (const std::size_t target : targets) {
+    if (target >= labels.size()) throw std::invalid_argument("train_rls: target out of range");
+    ++count[static_cast<Eigen::Index>(target)];
+  }
   if ((count.array() > 0).count() < 2)
     throw MethodError(fmt::format("the training data hold {} label(s); recognition needs samples of at least two",
                                   (count.array() > 0).count()));
+}
 
+// train_rls on features whose centred copy has spectrum s; y: target_matrix.
+RlsModel fit(const Eigen::MatrixXd& features, const Spectrum& s, const Eigen::MatrixXd& y,
+             const std::vector<std::size_t>& targets, const std::vector<std::string>& labels, const RlsConfig& config) {
+  const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
   const Eigen::RowVectorXd x_mean = features.colwise().mean(), y_mean = y.colwise().mean();
   const Eigen::MatrixXd x = features.rowwise() - x_mean, yc = y.rowwise() - y_mean;
-  const Spectrum s = spectrum(x);
   const Eigen::MatrixXd z = s.u.transpose() * yc;           // r x classes
   const Eigen::MatrixXd u2 = s.u.array().square().matrix();  // for the hat diagonal
   const double mean_eigenvalue = s.s2.size() ? s.s2.mean() : 1.0;
@@ -110,15 +115,12 @@ RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_
   return best;
 }
 
-Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
-                                       std::size_t labels, const std::vector<std::size_t>& groups, double lambda) {
-  const Eigen::Index n = features.rows();
-  if (static_cast<std::size_t>(n) != targets.size() || targets.size() != groups.size())
-    throw std::invalid_argument("leave_group_out_scores: one target and one group per row");
-  const Eigen::MatrixXd y = target_matrix(targets, labels);
+// leave_group_out_scores on features whose centred copy has spectrum s; y: target_matrix.
+Eigen::MatrixXd group_out(const Spectrum& s, const Eigen::MatrixXd& y, const std::vector<std::size_t>& groups,
+                          double lambda) {
+  const Eigen::Index n = y.rows();
   const Eigen::RowVectorXd y_mean = y.colwise().mean();
-  const Eigen::MatrixXd x = features.rowwise() - features.colwise().mean(), yc = y.rowwise() - y_mean;
-  const Spectrum s = spectrum(x);
+  const Eigen::MatrixXd yc = y.rowwise() - y_mean;
   const Eigen::VectorXd shrink = s.s2.array() / (s.s2.array() + lambda);
   const Eigen::MatrixXd residual = yc - s.u * (shrink.asDiagonal() * (s.u.transpose() * yc));
   std::map<std::size_t, std::vector<Eigen::Index>> members;
@@ -134,17 +136,36 @@ Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const st
   return scores;
 }
 
+}  // namespace
+
+RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                   const std::vector<std::string>& labels, const RlsConfig& config) {
+  check_training(features, targets, labels, config);
+  return fit(features, spectrum(features.rowwise() - features.colwise().mean()), target_matrix(targets, labels.size()),
+             targets, labels, config);
+}
+
+Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                                       std::size_t labels, const std::vector<std::size_t>& groups, double lambda) {
+  if (static_cast<std::size_t>(features.rows()) != targets.size() || targets.size() != groups.size())
+    throw std::invalid_argument("leave_group_out_scores: one target and one group per row");
+  return group_out(spectrum(features.rowwise() - features.colwise().mean()), target_matrix(targets, labels), groups, lambda);
+}
+
 double weigh_block(Eigen::MatrixXd& x, const std::vector<std::size_t>& targets, const std::vector<std::string>& labels,
                    const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size, const RlsConfig& config,
                    RlsModel& model) {
+  check_training(x, targets, labels, config);
+  if (groups.size() != targets.size()) throw std::invalid_argument("weigh_block: one group per row");
   const Eigen::MatrixXd y = target_matrix(targets, labels.size());
   double best_error = std::numeric_limits<double>::infinity(), best_weight = 1;
   for (const double weight : {1.0, 0.5, 0.25, 0.125, 0.0}) {
     Eigen::MatrixXd scaled = x;
     scaled.middleCols(start, size) *= weight;
-    RlsModel candidate = train_rls(scaled, targets, labels, config);
-    const double error =
-        (leave_group_out_scores(scaled, targets, labels.size(), groups, candidate.lambda) - y).squaredNorm() / y.size();
+    // One eigendecomposition serves the fit and its leave-group-out scores.
+    const Spectrum s = spectrum(scaled.rowwise() - scaled.colwise().mean());
+    RlsModel candidate = fit(scaled, s, y, targets, labels, config);
+    const double error = (group_out(s, y, groups, candidate.lambda) - y).squaredNorm() / y.size();
     spdlog::debug("block weight {}: leave-group-out error {:.4f}", weight, error);
     if (error < best_error) best_error = error, best_weight = weight, model = std::move(candidate);
   }

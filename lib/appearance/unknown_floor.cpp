@@ -1,9 +1,13 @@
 #include "toolinc/appearance/unknown_floor.hpp"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
+
+#include "toolinc/core/statistics.hpp"
 
 namespace toolinc {
 namespace {
@@ -29,7 +33,10 @@ std::vector<std::pair<std::size_t, Eigen::RowVectorXd>> group_means(const Eigen:
 
 DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<std::size_t>& targets,
                                   const std::vector<std::string>& labels, const std::vector<std::size_t>& groups,
-                                  bool sessions_only, const RlsModel& model, const RlsConfig& rls, Json& summary) {
+                                  bool sessions_only, const RlsModel& model, const RlsConfig& rls,
+                                  const UnknownFloorConfig& floor, Json& summary) {
+  if (!(floor.known_rejection >= 0 && floor.known_rejection < 1))
+    throw std::invalid_argument(fmt::format("unknown floor: known_rejection {} is not in [0, 1)", floor.known_rejection));
   DecisionConfig decision;
   summary = {{"min_margin_from", "default: 5 % of the +-1 target range"}};
   if (labels.size() < 3 || !sessions_only) {
@@ -57,11 +64,15 @@ DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<st
     for (const auto& [target, mean] : group_means(scores, std::vector<std::size_t>(out_rows.size(), 0), out_groups))
       unknown.push_back(mean.maxCoeff());
   }
-  decision.min_score = separating_floor(known, unknown);
+  // Never above the default: a known tool in a new grasp differs more from the training data than one
+  // training session does from the others, so floors fitted above 0 turn away known tools the default
+  // answers right (and a best score above 0 is nearer its label's +1 than the others' -1).
+  decision.min_score = std::min(decision.min_score, quantile(known, floor.known_rejection));
   const auto share_below = [&](const std::vector<double>& v) {
     return static_cast<double>(std::count_if(v.begin(), v.end(), [&](double s) { return s < decision.min_score; })) / v.size();
   };
-  summary["min_score_from"] = "leave-one-out on the training data: known sessions left out, against labels left out";
+  summary["min_score_from"] = fmt::format("the {} quantile of the scores of known sessions left out of training, at most {}",
+                                           floor.known_rejection, DecisionConfig{}.min_score);
   summary["known_groups"] = known.size();
   summary["known_rejected"] = share_below(known);
   summary["unknown_groups"] = unknown.size();

@@ -27,12 +27,6 @@ struct Decision {
   double best_score = 0, margin = 0;
 };
 
-// The score floor that best tells apart, on training data, the scores of tools a classifier knows from the
-// best scores of tools it has never seen: the threshold minimising the share of `known` below it plus the
-// share of `unknown` at or above it, midway between the two values around it (the lowest such when
-// several tie). Throws std::invalid_argument when either list is empty.
-double separating_floor(std::vector<double> known, std::vector<double> unknown);
-
 // Throws std::invalid_argument unless there are as many scores as labels and at least two.
 Decision decide(const Eigen::RowVectorXd& scores, const std::vector<std::string>& labels, const DecisionConfig& config);
 
