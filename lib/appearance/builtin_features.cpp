@@ -184,9 +184,10 @@ int positive_int(const Json& json, const std::string& key, const std::string& fi
 void check(const BuiltinFeatureConfig& c) {
   if (c.cell <= 0 || c.block <= 0 || c.orientation_bins <= 0 || c.radial_bins <= 0 || c.hue_bins <= 0 ||
       c.saturation_bins <= 0 || c.size % c.cell != 0 || c.coarse_size % c.cell != 0 || c.coarse_size / c.cell < c.block ||
-      c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1))
+      c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1) || c.depth.radial_bins <= 0 ||
+      !(c.depth.unit > 0) || !(c.depth.radial_step > 0) || !(c.depth.head_share > 0 && c.depth.head_share <= 1))
     throw std::invalid_argument(fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px "
-                                            "cells, or the head share {} is not in (0, 1]",
+                                            "cells, or the head share {} is not in (0, 1] (or the depth block's parameters are not positive)",
                                             c.size, c.coarse_size, c.block, c.cell, c.head_share));
 }
 
@@ -196,7 +197,7 @@ std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
   Eigen::Index at = 0;
   for (const auto& [name, size] : std::vector<std::pair<std::string, Eigen::Index>>{
            {"mask_hog", hog}, {"head_mask_hog", hog}, {"grey_hog", hog}, {"head_grey_hog", hog},
-           {"silhouette", c.radial_bins + 7}, {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
+           {"silhouette", c.radial_bins + 7}, {"depth", 6 + c.depth.radial_bins}, {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
     blocks.push_back({name, at, size}), at += size;
   return blocks;
 }
@@ -206,7 +207,8 @@ std::size_t builtin_dimension(const BuiltinFeatureConfig& c) {
   return static_cast<std::size_t>(last.start + last.size);
 }
 
-Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& given_mask, const BuiltinFeatureConfig& c) {
+Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& given_mask, const BuiltinFeatureConfig& c,
+                                 const std::vector<Eigen::Vector3d>& points) {
   CV_Assert(bgr.type() == CV_8UC3 && !bgr.empty());
   CV_Assert(given_mask.empty() || (given_mask.type() == CV_8UC1 && given_mask.size() == bgr.size()));
   cv::Mat mask = given_mask.empty() ? estimate_blob_mask(bgr) : given_mask;
@@ -225,11 +227,12 @@ Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& given_mask, 
                                     two_scale_hog(warp(blob_grey, to_whole, whole_scale, c.size), c),
                                     two_scale_hog(warp(blob_grey, to_head, head_scale, c.size), c),
                                     silhouette(mask, frame, c),
+                                    std::sqrt(5.0) * depth_shape(points, c.depth),
                                     colour_histogram(bgr, mask, c)};
   Eigen::VectorXd features(static_cast<Eigen::Index>(builtin_dimension(c)));
   Eigen::Index at = 0;
   for (const auto& block : blocks) features.segment(at, block.size()) = block, at += block.size();
-  return features / std::sqrt(static_cast<double>(std::size(blocks)));
+  return features / std::sqrt(11.0);  // six unit blocks and depth's sqrt(5)
 }
 
 Json to_json(const BuiltinFeatureConfig& c) {
@@ -248,8 +251,14 @@ Json to_json(const BuiltinFeatureConfig& c) {
             {"block_normalisation", "L2"},
             {"of", "blob mask, grey image"}}},
           {"silhouette", {{"radial_bins", c.radial_bins}, {"hu_moments", 7}}},
+          {"depth",
+           {{"unit_m", c.depth.unit},
+            {"head_share", c.depth.head_share},
+            {"radial_bins", c.depth.radial_bins},
+            {"radial_step_m", c.depth.radial_step},
+            {"of", "blob pixels with a disparity, in the camera frame; weight sqrt(5)"}}},
           {"colour", {{"space", "HSV"}, {"hue_bins", c.hue_bins}, {"saturation_bins", c.saturation_bins}, {"of", "blob pixels"}}},
-          {"normalisation", "each block L2, all scaled by 1/2"},
+          {"normalisation", "each block L2 (depth times sqrt(5)), all divided by sqrt(11)"},
           {"dimension", builtin_dimension(c)}};
 }
 
@@ -258,8 +267,9 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
     throw InputError(file, fmt::format("extractor: a builtin descriptor of version {} (this toolinc computes version {}, "
                                        "which sees shape): retrain the classifier with learn-appearance train",
                                        json.value("descriptor_version", 1), kBuiltinDescriptorVersion));
-  if (!json.contains("window") || !json.contains("hog") || !json.contains("silhouette") || !json.contains("colour"))
-    throw InputError(file, "extractor: missing \"window\", \"hog\", \"silhouette\" or \"colour\"");
+  if (!json.contains("window") || !json.contains("hog") || !json.contains("silhouette") || !json.contains("depth") ||
+      !json.contains("colour"))
+    throw InputError(file, "extractor: missing \"window\", \"hog\", \"silhouette\", \"depth\" or \"colour\"");
   BuiltinFeatureConfig c;
   c.size = positive_int(json["window"], "size", file);
   c.coarse_size = positive_int(json["window"], "coarse_size", file);
@@ -270,6 +280,14 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
   c.block = positive_int(json["hog"], "block", file);
   c.orientation_bins = positive_int(json["hog"], "orientation_bins", file);
   c.radial_bins = positive_int(json["silhouette"], "radial_bins", file);
+  c.depth.radial_bins = positive_int(json["depth"], "radial_bins", file);
+  for (const auto& [key, value] : {std::pair<const char*, double*>{"unit_m", &c.depth.unit},
+                                   {"head_share", &c.depth.head_share}, {"radial_step_m", &c.depth.radial_step}}) {
+    const Json& number = json["depth"].value(key, Json());
+    if (!number.is_number() || !(number.get<double>() > 0))
+      throw InputError(file, fmt::format("extractor: depth \"{}\" must be a positive number", key));
+    *value = number.get<double>();
+  }
   c.hue_bins = positive_int(json["colour"], "hue_bins", file);
   c.saturation_bins = positive_int(json["colour"], "saturation_bins", file);
   try {

@@ -35,7 +35,7 @@ void add_session(const std::string& dir, const std::string& label_override, cons
   check_label(label, session_file);
   for (const auto& crop : session_crops(dir, session)) {
     out.labels.push_back(label);
-    out.rows.push_back(extractor.extract(crop.image, crop.mask));
+    out.rows.push_back(extractor.extract(crop.image, crop.mask, crop.points));
   }
 }
 
@@ -120,11 +120,17 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
   RlsModel model;
   Json block_weights = Json::object();
   if (extractor.name() == "builtin") {
+    // First how much the image's shape blocks count beside the depth block (a turn about the handle
+    // changes the first, not the second), then colour, each by leave-one-session-out.
     const auto blocks = builtin_blocks(extractor.builtin_config());
     const FeatureBlock& colour = blocks.back();
-    const double weight = weigh_block(x, targets, labels, groups, colour.start, colour.size, rls, model);
-    block_weights = {{"colour", weight}, {"from", "leave-one-session-out error among 1, 1/2, 1/4, 1/8 and 0"}};
-    spdlog::info("colour block weight {} (leave-one-session-out)", weight);
+    const FeatureBlock& depth = blocks[blocks.size() - 2];
+    const double image_weight = weigh_block(x, targets, labels, groups, 0, depth.start, rls, model);
+    const double colour_weight = weigh_block(x, targets, labels, groups, colour.start, colour.size, rls, model);
+    block_weights = {{"image_shape", image_weight},
+                     {"colour", colour_weight},
+                     {"from", "leave-one-session-out error among 1, 1/2, 1/4, 1/8 and 0, image shape blocks first"}};
+    spdlog::info("image shape blocks weight {}, colour block weight {} (leave-one-session-out)", image_weight, colour_weight);
   } else {
     model = train_rls(x, targets, labels, rls);
   }
@@ -133,9 +139,10 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
   Json calibration;
   const bool sessions_only = sources.images.empty() && !database;
   const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, sessions_only, model, rls, {}, calibration);
-  if (extractor.name() == "builtin") {  // the weight moves into the colour rows: the extractor stays as it is
-    const FeatureBlock colour = builtin_blocks(extractor.builtin_config()).back();
-    model.weights.middleRows(colour.start, colour.size) *= block_weights["colour"].get<double>();
+  if (extractor.name() == "builtin") {  // the weights move into the model's rows: the extractor stays as it is
+    const auto blocks = builtin_blocks(extractor.builtin_config());
+    model.weights.topRows(blocks[blocks.size() - 2].start) *= block_weights["image_shape"].get<double>();
+    model.weights.middleRows(blocks.back().start, blocks.back().size) *= block_weights["colour"].get<double>();
   }
 
   training_summary = {{"samples", data.rows.size()},
@@ -163,7 +170,7 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
   Json source;
   if (!input.session.empty()) {
     for (const auto& crop : session_crops(input.session, read_session(input.session), input.view)) {
-      rows.push_back(extractor.extract(crop.image, crop.mask));
+      rows.push_back(extractor.extract(crop.image, crop.mask, crop.points));
       samples.push_back({{"view", crop.view}, {"box", box_json(crop.box)}});
     }
     source = {{"session", input.session}};

@@ -12,9 +12,12 @@
 //  - "silhouette": the blob's rotation-invariant shape: the histogram of its pixels' distances from the
 //    centroid (in units of the farthest, square-rooted shares) and its seven Hu moments (-sign log10 |h|,
 //    divided by 10 to the histogram's range);
+//  - "depth": the blob's extents in 3D from its disparity (depth_shape.hpp), which a turn of the tool
+//    about its handle does not change; it counts as much as the five image shape blocks together (scaled
+//    by sqrt(5)), and is zero for an image without disparity;
 //  - "colour": a joint hue x saturation histogram of the blob's pixels in HSV, square-rooted shares.
-// Each block has unit norm and the whole vector is divided by sqrt(6). How much colour counts is left to
-// the training data (learn-appearance weighs the block by leave-one-session-out).
+// Each block has unit norm (depth sqrt(5)) and the whole vector is divided by sqrt(11). How much colour
+// counts is left to the training data (learn-appearance weighs the block by leave-one-session-out).
 #pragma once
 
 #include <Eigen/Core>
@@ -23,13 +26,14 @@
 #include <string>
 #include <vector>
 
+#include "toolinc/appearance/depth_shape.hpp"
 #include "toolinc/io/json_file.hpp"
 
 namespace toolinc {
 
 // Which descriptor a classifier file's "builtin" extractor is: files without it predate the shape
 // descriptor (colour HOG and a hue histogram) and are refused with a request to retrain.
-constexpr int kBuiltinDescriptorVersion = 2;
+constexpr int kBuiltinDescriptorVersion = 3;
 
 struct BuiltinFeatureConfig {
   int size = 64;             // px side of the normalised window; a multiple of cell
@@ -41,9 +45,11 @@ struct BuiltinFeatureConfig {
   int radial_bins = 16;      // silhouette distance histogram, over 0 to the farthest blob pixel
   int hue_bins = 16;         // over OpenCV's 0-180 hue
   int saturation_bins = 4;   // over 0-255
+  DepthShapeConfig depth;
 };
 
-// A named part of the vector, for ablations: mask_hog, grey_hog, silhouette, colour, in that order.
+// A named part of the vector, for ablations: mask_hog, head_mask_hog, grey_hog, head_grey_hog, silhouette,
+// depth, colour, in that order (colour last).
 struct FeatureBlock {
   std::string name;
   Eigen::Index start = 0, size = 0;
@@ -56,8 +62,10 @@ std::size_t builtin_dimension(const BuiltinFeatureConfig& config);
 void check(const BuiltinFeatureConfig& config);
 
 // Features of an 8-bit BGR crop and the blob's mask in it (CV_8UC1, non-zero on the blob, the crop's
-// size); an empty mask is estimated with estimate_blob_mask (blob_mask.hpp).
-Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& mask, const BuiltinFeatureConfig& config);
+// size); an empty mask is estimated with estimate_blob_mask (blob_mask.hpp). points: the blob's pixels
+// with a disparity, in the camera frame (m; ViewCrop::points), empty when there is no depth.
+Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& mask, const BuiltinFeatureConfig& config,
+                                 const std::vector<Eigen::Vector3d>& points = {});
 
 // Every parameter, for the classifier file; and back (throws InputError(file, ...)).
 Json to_json(const BuiltinFeatureConfig& config);
