@@ -18,9 +18,10 @@ using namespace toolinc;
 namespace {
 
 // A crop the size of a held tool's at 320x240 (about 120 x 170 px): noise on a coloured T (the tool) and
-// a box (the hand), with its blob mask.
+// a box (the hand), with its blob mask and, for the depth block, the mask's pixels at 0.3-0.4 m.
 struct Crop {
   cv::Mat image, mask;
+  std::vector<Eigen::Vector3d> points;
 };
 Crop tool_like_crop() {
   Crop crop{cv::Mat(170, 120, CV_8UC3), cv::Mat::zeros(170, 120, CV_8UC1)};
@@ -29,6 +30,9 @@ Crop tool_like_crop() {
     crop.image(part).setTo(cv::Scalar(40, 150, 60));
     crop.mask(part).setTo(255);
   }
+  for (int y = 0; y < crop.mask.rows; ++y)
+    for (int x = 0; x < crop.mask.cols; ++x)
+      if (crop.mask.at<uchar>(y, x)) crop.points.emplace_back(x * 1e-3, y * 1e-3, 0.3 + 0.1 * x / crop.mask.cols);
   return crop;
 }
 
@@ -37,9 +41,10 @@ void BM_BuiltinFeatures(benchmark::State& state) {
   const Crop crop = tool_like_crop();
   const cv::Mat mask = state.range(0) ? crop.mask : cv::Mat();
   const BuiltinFeatureConfig config;
-  for (auto _ : state) benchmark::DoNotOptimize(builtin_features(crop.image, mask, config));
+  const std::vector<Eigen::Vector3d> points = state.range(0) ? crop.points : std::vector<Eigen::Vector3d>();
+  for (auto _ : state) benchmark::DoNotOptimize(builtin_features(crop.image, mask, config, points));
   state.SetLabel(std::to_string(builtin_dimension(config)) + " features per 120x170 crop, " +
-                 (state.range(0) ? "blob mask given" : "blob estimated"));
+                 (state.range(0) ? "blob mask and 3D points given" : "blob estimated, no depth"));
 }
 BENCHMARK(BM_BuiltinFeatures)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
@@ -62,7 +67,7 @@ void BM_TrainRls(benchmark::State& state) {
 BENCHMARK(BM_TrainRls)->Args({1000, 2048})->Args({200, 2048})->Unit(benchmark::kMillisecond);
 
 // What learn-appearance adds to training on sessions of the builtin features (90 views of 6 tools, 18
-// sessions, 8439 values): the colour weight (five trainings, each with leave-one-session-out scores) and
+// sessions, 8453 values): the colour weight (five trainings, each with leave-one-session-out scores) and
 // the unknown floor (a leave-one-session-out and one training per label left out), here the first.
 void BM_WeighColourBlock(benchmark::State& state) {
   const auto n = state.range(0), d = state.range(1);
@@ -84,7 +89,7 @@ void BM_WeighColourBlock(benchmark::State& state) {
   }
   state.SetLabel(std::to_string(n) + " x " + std::to_string(d) + ", 6 labels, groups of 5");
 }
-BENCHMARK(BM_WeighColourBlock)->Args({90, 8439})->Args({1000, 2048})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WeighColourBlock)->Args({90, 8453})->Args({1000, 2048})->Unit(benchmark::kMillisecond);
 
 // A generated 3x3 conv network (no pretrained weights here): the time of the dnn path around a network,
 // not of a real backbone, which depends on the model the user brings.
