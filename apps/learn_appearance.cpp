@@ -63,10 +63,11 @@ int main(int argc, char** argv) {
       cli.add_option("--image", input.image, "classify: an image (with --bbox)"),
       cli.add_option("--bbox", bbox, "classify: the tool's box x,y,w,h in --image (the crop adds 10 px around it)"),
       cli.add_option("--features", input.features, "classify: a file of feature vectors, one per line"),
-      cli.add_option("--min-score", decision.min_score, "classify: below this best score the answer is unknown")
-          ->capture_default_str(),
+      cli.add_option("--min-score", decision.min_score,
+                     "classify: below this best score the answer is unknown (default: the classifier's)"),
       cli.add_option("--min-margin", decision.min_margin,
-                     "classify: closer than this to the second best score the answer is unknown")->capture_default_str()};
+                     "classify: closer than this to the second best score the answer is unknown (default: the "
+                     "classifier's)")};
 
   g_args.assign(argv + 1, argv + argc);
   return command.run(argc, argv, [&] {
@@ -93,7 +94,10 @@ int main(int argc, char** argv) {
     if (cli.count("--view")) input.view = view;
     if (!bbox.empty()) input.bbox = toolinc::parse_bbox(bbox);
     const auto classifier = toolinc::read_classifier(classifier_path, backbone);
-    const auto result = toolinc::classify_appearance(classifier, classifier_path, input, decision);
+    toolinc::DecisionConfig thresholds = classifier.decision;
+    if (cli.count("--min-score")) thresholds.min_score = decision.min_score;
+    if (cli.count("--min-margin")) thresholds.min_margin = decision.min_margin;
+    const auto result = toolinc::classify_appearance(classifier, classifier_path, input, thresholds);
     spdlog::info("{} (best score {:.3f}, margin {:.3f})", result["label"].get<std::string>(),
                  result["best_score"].get<double>(), result["margin"].get<double>());
     toolinc::write_json(command.output(), result);

@@ -3,6 +3,8 @@
 // the robot would record it, with ground_truth.json.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -26,12 +28,23 @@ toolinc::GrossError parse_gross_error(const std::string& text) {
   return gross;
 }
 
+// R,G,B in 0-255
+std::array<int, 3> parse_colour(const std::string& text) {
+  std::istringstream in(text);
+  std::array<int, 3> rgb{};
+  char comma1 = 0, comma2 = 0;
+  if (!(in >> rgb[0] >> comma1 >> rgb[1] >> comma2 >> rgb[2]) || comma1 != ',' || comma2 != ',' || !in.eof() ||
+      std::any_of(rgb.begin(), rgb.end(), [](int c) { return c < 0 || c > 255; }))
+    throw std::invalid_argument("--color \"" + text + "\": expected R,G,B in 0-255, e.g. 128,128,128");
+  return rgb;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   toolinc::Command command("simulate-session", "Simulate a recorded tool-exploration session with ground truth");
   toolinc::SessionSimulatorConfig config;
-  std::string family = "hoe", model_file, symmetry = "mirror", grasp = "random", label;
+  std::string family = "hoe", model_file, symmetry = "mirror", grasp = "random", label, colour;
   std::vector<std::string> gross_errors;
   double kinematic_mm = config.kinematic_error_m * 1000.0;
   bool no_points = false, no_blob = false;
@@ -50,6 +63,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_option("--hand", config.hand, "left or right")->check(CLI::IsMember({"left", "right"}))->capture_default_str();
   cli.add_option("--label", label, "The tool's label recorded in session.json");
+  cli.add_option("--color", colour,
+                 "The tool's colour R,G,B (0-255); default: drawn by the seed from a palette all families share");
+  cli.add_option("--scene-variation", config.scene_variation,
+                 "Share by which the light and the wall's and table's tint vary with the seed (0: never)")
+      ->capture_default_str();
   cli.add_option("--kinematic-error-mm", kinematic_mm, "Sigma of the recorded hand position per axis (mm)")
       ->capture_default_str();
   cli.add_option("--kinematic-error-deg", config.kinematic_error_deg, "Sigma of the recorded hand rotation (deg)")
@@ -82,6 +100,7 @@ int main(int argc, char** argv) {
     }
     if (grasp == "random") config.hand_from_canonical = toolinc::exploration_grasp(config.seed);
     if (!label.empty()) config.tool_label = label;
+    if (!colour.empty()) config.tool_rgb = parse_colour(colour);
     config.kinematic_error_m = kinematic_mm / 1000.0;
     for (const auto& text : gross_errors) config.gross_errors.push_back(parse_gross_error(text));
     config.stereo = toolinc::stereo_model_from_string(stereo);

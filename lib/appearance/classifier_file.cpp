@@ -37,6 +37,12 @@ Json classifier_json(const AppearanceClassifier& classifier, const Json& trainin
           {"extractor", classifier.extractor.to_json()},
           {"lambda", m.lambda},
           {"lambda_selection", {{"method", "leave-one-out"}, {"error", m.loo_error}, {"accuracy", m.loo_accuracy}}},
+          {"decision", [&] {
+             Json decision = classifier.decision_summary;
+             decision["min_score"] = classifier.decision.min_score;
+             decision["min_margin"] = classifier.decision.min_margin;
+             return decision;
+           }()},
           {"training", training},
           {"bias", std::vector<double>(m.bias.data(), m.bias.data() + m.bias.size())},
           {"weights", weights}};
@@ -67,7 +73,18 @@ AppearanceClassifier read_classifier(const std::string& path, const std::string&
     m.weights.col(c) = number_row(weights[static_cast<std::size_t>(c)], dimension, "weights", path).transpose();
   if (!json.contains("lambda") || !json["lambda"].is_number()) throw InputError(path, "missing \"lambda\"");
   m.lambda = json["lambda"].get<double>();
-  return {std::move(extractor), std::move(m)};
+  DecisionConfig decision;  // files written before the thresholds were calibrated: the defaults
+  Json summary = {{"min_score_from", "default"}, {"min_margin_from", "default"}};
+  if (json.contains("decision")) {
+    summary = json["decision"];
+    const std::pair<const char*, double*> fields[] = {{"min_score", &decision.min_score}, {"min_margin", &decision.min_margin}};
+    for (const auto& [key, value] : fields) {
+      if (!summary.contains(key) || !summary[key].is_number() || !std::isfinite(summary[key].get<double>()))
+        throw InputError(path, fmt::format("decision: \"{}\" must be a finite number", key));
+      *value = summary[key].get<double>();
+    }
+  }
+  return {std::move(extractor), std::move(m), decision, std::move(summary)};
 }
 
 }  // namespace toolinc

@@ -57,6 +57,20 @@ std::optional<cv::Rect> view_crop_box(const ViewData& data, const ViewRecord& re
   return box;
 }
 
+// The blob's pixels with a valid disparity, back-projected through the left camera (z = fx b / d).
+std::vector<Eigen::Vector3d> blob_points(const ViewData& data, const CameraModel& camera) {
+  std::vector<Eigen::Vector3d> points;
+  if (data.blob.empty()) return points;
+  for (int y = 0; y < data.blob.rows; ++y)
+    for (int x = 0; x < data.blob.cols; ++x) {
+      const int value = data.disparity.at<uchar>(y, x);
+      if (!data.blob.at<uchar>(y, x) || value == 0) continue;
+      const double z = camera.fx * camera.baseline / camera.disparity_px(value);
+      points.emplace_back((x - camera.cx) * z / camera.fx, (y - camera.cy) * z / camera.fy, z);
+    }
+  return points;
+}
+
 }  // namespace
 
 std::vector<ViewCrop> session_crops(const std::string& session_dir, const SessionInfo& session,
@@ -71,7 +85,8 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
     const auto view_file = (std::filesystem::path(session_dir) / session.views[i].dir / "view.json").string();
     const auto crop = view_crop_box(data, session.views[i]);
     if (!crop) throw InputError(view_file, "no blob inside the image (neither blob.png nor a blob roi) to crop the tool from");
-    crops.push_back({i, *crop, data.left(*crop).clone()});
+    crops.push_back({i, *crop, data.left(*crop).clone(), data.blob.empty() ? cv::Mat() : data.blob(*crop).clone(),
+                     blob_points(data, session.camera)});
   }
   return crops;
 }

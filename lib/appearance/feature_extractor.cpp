@@ -63,8 +63,9 @@ Json FeatureExtractor::to_json() const {
   return {{"name", name_}, {"dimension", dimension_}, {"note", "features computed elsewhere (a feature database)"}};
 }
 
-Eigen::VectorXd FeatureExtractor::extract(const cv::Mat& bgr) const {
-  if (name_ == "builtin") return builtin_features(bgr, builtin_);
+Eigen::VectorXd FeatureExtractor::extract(const cv::Mat& bgr, const cv::Mat& mask,
+                                          const std::vector<Eigen::Vector3d>& points) const {
+  if (name_ == "builtin") return builtin_features(bgr, mask, builtin_, points);
   if (name_ == "dnn") return dnn_->extract(bgr);
   throw std::logic_error("an external extractor has no images to work on");
 }

@@ -4,8 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "toolinc/core/error.hpp"
@@ -44,28 +46,39 @@ Spectrum spectrum(const Eigen::MatrixXd& x) {
   return result;
 }
 
-}  // namespace
+// +1 for the row's label, -1 for the others.
+Eigen::MatrixXd target_matrix(const std::vector<std::size_t>& targets, std::size_t labels) {
+  Eigen::MatrixXd y = -Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(targets.size()), static_cast<Eigen::Index>(labels));
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (targets[i] >= labels) throw std::invalid_argument("train_rls: target out of range");
+    y(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(targets[i])) = 1.0;
+  }
+  return y;
+}
 
-RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
-                   const std::vector<std::string>& labels, const RlsConfig& config) {
+// train_rls's argument checks (see rls.hpp).
+void check_training(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                    const std::vector<std::string>& labels, const RlsConfig& config) {
   const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
   if (static_cast<std::size_t>(n) != targets.size()) throw std::invalid_argument("train_rls: one target per row");
   if (config.lambda_count < 1 || !(config.lambda_min_ratio > 0) || !(config.lambda_max_ratio >= config.lambda_min_ratio))
     throw std::invalid_argument("train_rls: bad lambda range");
-  Eigen::MatrixXd y = -Eigen::MatrixXd::Ones(n, classes);
   Eigen::VectorXi count = Eigen::VectorXi::Zero(classes);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (targets[i] >= labels.size()) throw std::invalid_argument("train_rls: target out of range");
-    y(i, static_cast<Eigen::Index>(targets[i])) = 1.0;
-    ++count[static_cast<Eigen::Index>(targets[i])];
+  for (const std::size_t target : targets) {
+    if (target >= labels.size()) throw std::invalid_argument("train_rls: target out of range");
+    ++count[static_cast<Eigen::Index>(target)];
   }
   if ((count.array() > 0).count() < 2)
     throw MethodError(fmt::format("the training data hold {} label(s); recognition needs samples of at least two",
                                   (count.array() > 0).count()));
+}
 
+// train_rls on features whose centred copy has spectrum s; y: target_matrix.
+RlsModel fit(const Eigen::MatrixXd& features, const Spectrum& s, const Eigen::MatrixXd& y,
+             const std::vector<std::size_t>& targets, const std::vector<std::string>& labels, const RlsConfig& config) {
+  const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
   const Eigen::RowVectorXd x_mean = features.colwise().mean(), y_mean = y.colwise().mean();
   const Eigen::MatrixXd x = features.rowwise() - x_mean, yc = y.rowwise() - y_mean;
-  const Spectrum s = spectrum(x);
   const Eigen::MatrixXd z = s.u.transpose() * yc;           // r x classes
   const Eigen::MatrixXd u2 = s.u.array().square().matrix();  // for the hat diagonal
   const double mean_eigenvalue = s.s2.size() ? s.s2.mean() : 1.0;
@@ -100,6 +113,64 @@ RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_
   best.weights = x.transpose() * (s.u * (inverse.asDiagonal() * z));
   best.bias = y_mean - x_mean * best.weights;
   return best;
+}
+
+// leave_group_out_scores on features whose centred copy has spectrum s; y: target_matrix.
+Eigen::MatrixXd group_out(const Spectrum& s, const Eigen::MatrixXd& y, const std::vector<std::size_t>& groups,
+                          double lambda) {
+  const Eigen::Index n = y.rows();
+  const Eigen::RowVectorXd y_mean = y.colwise().mean();
+  const Eigen::MatrixXd yc = y.rowwise() - y_mean;
+  const Eigen::VectorXd shrink = s.s2.array() / (s.s2.array() + lambda);
+  const Eigen::MatrixXd residual = yc - s.u * (shrink.asDiagonal() * (s.u.transpose() * yc));
+  std::map<std::size_t, std::vector<Eigen::Index>> members;
+  for (Eigen::Index i = 0; i < n; ++i) members[groups[static_cast<std::size_t>(i)]].push_back(i);
+  Eigen::MatrixXd scores(n, y.cols());
+  for (const auto& [group, rows] : members) {
+    const Eigen::MatrixXd u = s.u(rows, Eigen::all);
+    const auto m = static_cast<Eigen::Index>(rows.size());
+    const Eigen::MatrixXd hat = Eigen::MatrixXd::Constant(m, m, 1.0 / n) + u * shrink.asDiagonal() * u.transpose();
+    const Eigen::MatrixXd loo = (Eigen::MatrixXd::Identity(m, m) - hat).lu().solve(residual(rows, Eigen::all));
+    scores(rows, Eigen::all) = y(rows, Eigen::all) - loo;
+  }
+  return scores;
+}
+
+}  // namespace
+
+RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                   const std::vector<std::string>& labels, const RlsConfig& config) {
+  check_training(features, targets, labels, config);
+  return fit(features, spectrum(features.rowwise() - features.colwise().mean()), target_matrix(targets, labels.size()),
+             targets, labels, config);
+}
+
+Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                                       std::size_t labels, const std::vector<std::size_t>& groups, double lambda) {
+  if (static_cast<std::size_t>(features.rows()) != targets.size() || targets.size() != groups.size())
+    throw std::invalid_argument("leave_group_out_scores: one target and one group per row");
+  return group_out(spectrum(features.rowwise() - features.colwise().mean()), target_matrix(targets, labels), groups, lambda);
+}
+
+double weigh_block(Eigen::MatrixXd& x, const std::vector<std::size_t>& targets, const std::vector<std::string>& labels,
+                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size, const RlsConfig& config,
+                   RlsModel& model) {
+  check_training(x, targets, labels, config);
+  if (groups.size() != targets.size()) throw std::invalid_argument("weigh_block: one group per row");
+  const Eigen::MatrixXd y = target_matrix(targets, labels.size());
+  double best_error = std::numeric_limits<double>::infinity(), best_weight = 1;
+  for (const double weight : {1.0, 0.5, 0.25, 0.125, 0.0}) {
+    Eigen::MatrixXd scaled = x;
+    scaled.middleCols(start, size) *= weight;
+    // One eigendecomposition serves the fit and its leave-group-out scores.
+    const Spectrum s = spectrum(scaled.rowwise() - scaled.colwise().mean());
+    RlsModel candidate = fit(scaled, s, y, targets, labels, config);
+    const double error = (group_out(s, y, groups, candidate.lambda) - y).squaredNorm() / y.size();
+    spdlog::debug("block weight {}: leave-group-out error {:.4f}", weight, error);
+    if (error < best_error) best_error = error, best_weight = weight, model = std::move(candidate);
+  }
+  x.middleCols(start, size) *= best_weight;
+  return best_weight;
 }
 
 Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features) {

@@ -25,26 +25,30 @@ constexpr int kBlobMargin = 20;            // dispBlobber's ROI margin, px
 
 Colour bgr(float r, float g, float b) { return {b, g, r}; }
 
-Colour family_colour(ToolFamily family) {
-  switch (family) {
-    case ToolFamily::stick: return bgr(170, 60, 40);
-    case ToolFamily::hoe: return bgr(40, 150, 60);
-    case ToolFamily::hook: return bgr(40, 90, 190);
-    case ToolFamily::rake: return bgr(230, 140, 30);
-    case ToolFamily::shovel: return bgr(210, 190, 40);
-    case ToolFamily::l_stick: return bgr(140, 60, 170);
-    case ToolFamily::t_bar: return bgr(30, 170, 180);
-    case ToolFamily::flat_top: return bgr(200, 50, 110);
-    case ToolFamily::blade: return bgr(120, 120, 120);
-    case ToolFamily::square_plate: return bgr(60, 60, 60);
-    case ToolFamily::cross: return bgr(180, 180, 170);
-  }
-  return bgr(128, 128, 128);
-}
-const Colour kModelColour = bgr(90, 160, 220);
 const Colour kSkin = bgr(225, 180, 150);
 const Colour kWood = bgr(150, 105, 60);
 const Colour kWall = bgr(200, 200, 190);
+
+// The session's look: its tool colour and light, and the wall's and table's tint, drawn from a stream of
+// the seed of their own so that the geometry and the noise do not change with them.
+struct Look {
+  Colour tool, wall, wood, skin;
+};
+
+Look scene_look(const SessionSimulatorConfig& config) {
+  Rng rng(config.seed ^ 0xc0105eedu);
+  const auto& palette = tool_palette();
+  const auto drawn = palette[rng.index(static_cast<std::uint32_t>(palette.size()))];
+  const auto rgb = config.tool_rgb.value_or(drawn);
+  const double v = config.scene_variation;
+  const auto light = static_cast<float>(1.0 + v * rng.uniform(-1, 1));
+  const auto tint = [&](Colour c) {
+    for (int k = 0; k < 3; ++k) c[k] *= static_cast<float>(1.0 + 0.5 * v * rng.uniform(-1, 1));
+    return Colour(c * light);
+  };
+  const Colour wall = tint(kWall), wood = tint(kWood);
+  return {bgr(rgb[0], rgb[1], rgb[2]) * light, wall, wood, kSkin * light};
+}
 
 // Lambert-like shading with some ambient light, from the cosine between the surface and the ray.
 float shade(double cosine) { return static_cast<float>(0.35 + 0.65 * std::abs(cosine)); }
@@ -111,14 +115,15 @@ RenderModel render_model(const SessionSimulatorConfig& config) {
     PointCloud cloud = generate_tool(shape, config.seed);
     model.points = std::move(cloud.points);
     model.normals = std::move(cloud.normals);
-    model.colours.assign(model.points.size(), family_colour(shape.family));
+    model.colours.assign(model.points.size(), scene_look(config).tool);
     model.spacing = shape.spacing;
   } else {
     model.points = config.model.points;
     model.normals = config.model.normals;
+    const Colour plain = scene_look(config).tool;
     for (std::size_t i = 0; i < model.points.size(); ++i) {
       const auto& c = config.model.has_colors() ? config.model.colors[i] : Rgb{};
-      model.colours.push_back(config.model.has_colors() ? bgr(c[0], c[1], c[2]) : kModelColour);
+      model.colours.push_back(config.model.has_colors() ? bgr(c[0], c[1], c[2]) : plain);
     }
     model.spacing = median_neighbour_distance(model.points);
   }
@@ -151,6 +156,7 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
   const Vec3 &lo = hand.lo, &hi = hand.hi;
   const bool lit = config.stereo == StereoModel::sgbm;
   const Vec3 light = config.light_direction.normalized(), light_in_hand = hand_r * root_r.transpose() * light;
+  const Look look = scene_look(config);
   for (int v = 0; v < render.height; ++v)
     for (int u = 0; u < render.width; ++u) {
       const Vec3 ray = pixel_ray(config.camera, u, v), d = root_r * ray;
@@ -159,7 +165,7 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
         const double t = (config.table_height - eye.z()) / d.z();
         const Vec3 hit = eye + t * d;  // wood grain across root x, wavy along y
         const double grain = 0.85 + 0.15 * std::sin(60.0 * hit.x() + 4.0 * std::sin(15.0 * hit.y()));
-        const Colour wood = kWood * static_cast<float>(grain);
+        const Colour wood = look.wood * static_cast<float>(grain);
         render.offer(u, v, t, Surface::table,
                      lit ? Colour(wood * texture(hit, kTableTextureScale, config.table_texture) *
                                   lambert(Vec3::UnitZ(), d, light, config.ambient))
@@ -168,9 +174,9 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
       if (d.x() < 0) {
         const double t = (-config.wall_distance - eye.x()) / d.x();
         render.offer(u, v, t, Surface::wall,
-                     lit ? Colour(kWall * texture(eye + t * d, kWallTextureScale, config.wall_texture) *
+                     lit ? Colour(look.wall * texture(eye + t * d, kWallTextureScale, config.wall_texture) *
                                   lambert(Vec3::UnitX(), d, light, config.ambient))
-                         : Colour(kWall * shade(d.x() * unit)));
+                         : Colour(look.wall * shade(d.x() * unit)));
       }
       // Slab test in the hand frame; the entry face's axis shades it.
       const Vec3 dh = hand_r * ray;
@@ -188,9 +194,9 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
       }
       if (face < 0 || t_in > t_out) continue;
       render.offer(u, v, t_in, Surface::hand,
-                   lit ? Colour(kSkin * texture(eye_in_hand + t_in * dh, kHandTextureScale, config.hand_texture) *
+                   lit ? Colour(look.skin * texture(eye_in_hand + t_in * dh, kHandTextureScale, config.hand_texture) *
                                 lambert(Vec3::Unit(face), dh, light_in_hand, config.ambient))
-                       : Colour(kSkin * shade(dh[face] * unit)));
+                       : Colour(look.skin * shade(dh[face] * unit)));
     }
 }
 

@@ -56,6 +56,11 @@ void check(const SessionSimulatorConfig& config) {
     if (gross.view >= config.poses.size())
       throw std::invalid_argument(fmt::format("gross error for view {}, but there are {} views", gross.view,
                                               config.poses.size()));
+  if (!(config.scene_variation >= 0 && config.scene_variation < 1))
+    throw std::invalid_argument(fmt::format("scene variation {} is not in [0, 1)", config.scene_variation));
+  if (config.tool_rgb)
+    for (const int c : *config.tool_rgb)
+      if (c < 0 || c > 255) throw std::invalid_argument(fmt::format("tool colour value {} is not in 0-255", c));
   if (!is_rigid(config.hand_from_canonical)) throw std::invalid_argument("the grasp is not a rigid transform");
   if (!config.model.empty() && config.model.has_colors() && config.model.colors.size() != config.model.size())
     throw std::invalid_argument("the model's colours do not match its points");
@@ -88,6 +93,12 @@ StereoModel stereo_model_from_string(const std::string& name) {
 }
 
 std::string to_string(StereoModel model) { return model == StereoModel::ideal ? "ideal" : "sgbm"; }
+
+const std::vector<std::array<int, 3>>& tool_palette() {
+  static const std::vector<std::array<int, 3>> palette = {{128, 128, 128}, {50, 50, 55},   {190, 40, 35},
+                                                          {40, 80, 180},   {220, 190, 40}, {50, 140, 60}};
+  return palette;
+}
 
 CameraModel icub_camera() { return {320, 240, 257.3, 257.3, 160.0, 120.0, 96, 0.068}; }
 

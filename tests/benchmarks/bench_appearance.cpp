@@ -1,5 +1,6 @@
 // Appearance learning speed (issue 5 floors: builtin features <= 5 ms per crop; training on 1,000 feature
-// vectors of 2,048 dimensions, lambda chosen by leave-one-out, <= 1 s; dnn feature time printed).
+// vectors of 2,048 dimensions, lambda chosen by leave-one-out, <= 1 s; dnn feature time printed; issue 18:
+// the colour block's weight by leave-one-session-out).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -16,22 +17,36 @@ using namespace toolinc;
 
 namespace {
 
-// A crop the size of a held tool's at 320x240 (about 120 x 170 px): noise on a coloured bar.
-cv::Mat tool_like_crop() {
-  cv::Mat crop(170, 120, CV_8UC3, cv::Scalar(60, 105, 150));
-  cv::randn(crop, cv::Scalar(60, 105, 150), cv::Scalar::all(8));
-  crop(cv::Rect(50, 10, 20, 150)).setTo(cv::Scalar(40, 150, 60));
-  crop(cv::Rect(20, 10, 80, 25)).setTo(cv::Scalar(40, 150, 60));
+// A crop the size of a held tool's at 320x240 (about 120 x 170 px): noise on a coloured T (the tool) and
+// a box (the hand), with its blob mask and, for the depth block, the mask's pixels at 0.3-0.4 m.
+struct Crop {
+  cv::Mat image, mask;
+  std::vector<Eigen::Vector3d> points;
+};
+Crop tool_like_crop() {
+  Crop crop{cv::Mat(170, 120, CV_8UC3), cv::Mat::zeros(170, 120, CV_8UC1)};
+  cv::randn(crop.image, cv::Scalar(60, 105, 150), cv::Scalar::all(8));
+  for (const cv::Rect& part : {cv::Rect(50, 10, 20, 120), cv::Rect(20, 10, 80, 25), cv::Rect(35, 125, 50, 40)}) {
+    crop.image(part).setTo(cv::Scalar(40, 150, 60));
+    crop.mask(part).setTo(255);
+  }
+  for (int y = 0; y < crop.mask.rows; ++y)
+    for (int x = 0; x < crop.mask.cols; ++x)
+      if (crop.mask.at<uchar>(y, x)) crop.points.emplace_back(x * 1e-3, y * 1e-3, 0.3 + 0.1 * x / crop.mask.cols);
   return crop;
 }
 
+// With the session's blob mask (arg 1), and with the blob estimated from the crop (arg 0: an image and a box).
 void BM_BuiltinFeatures(benchmark::State& state) {
-  const cv::Mat crop = tool_like_crop();
+  const Crop crop = tool_like_crop();
+  const cv::Mat mask = state.range(0) ? crop.mask : cv::Mat();
   const BuiltinFeatureConfig config;
-  for (auto _ : state) benchmark::DoNotOptimize(builtin_features(crop, config));
-  state.SetLabel(std::to_string(builtin_dimension(config)) + " features per 120x170 crop");
+  const std::vector<Eigen::Vector3d> points = state.range(0) ? crop.points : std::vector<Eigen::Vector3d>();
+  for (auto _ : state) benchmark::DoNotOptimize(builtin_features(crop.image, mask, config, points));
+  state.SetLabel(std::to_string(builtin_dimension(config)) + " features per 120x170 crop, " +
+                 (state.range(0) ? "blob mask and 3D points given" : "blob estimated, no depth"));
 }
-BENCHMARK(BM_BuiltinFeatures)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BuiltinFeatures)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 void BM_TrainRls(benchmark::State& state) {
   const auto n = state.range(0), d = state.range(1);
@@ -51,6 +66,31 @@ void BM_TrainRls(benchmark::State& state) {
 }
 BENCHMARK(BM_TrainRls)->Args({1000, 2048})->Args({200, 2048})->Unit(benchmark::kMillisecond);
 
+// What learn-appearance adds to training on sessions of the builtin features (90 views of 6 tools, 18
+// sessions, 8453 values): the colour weight (five trainings, each with leave-one-session-out scores) and
+// the unknown floor (a leave-one-session-out and one training per label left out), here the first.
+void BM_WeighColourBlock(benchmark::State& state) {
+  const auto n = state.range(0), d = state.range(1);
+  Rng rng(4);
+  const int classes = 6;
+  Eigen::MatrixXd x(n, d);
+  std::vector<std::size_t> y, groups;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    y.push_back(static_cast<std::size_t>(i % classes)), groups.push_back(static_cast<std::size_t>(i / 5));
+    for (Eigen::Index j = 0; j < d; ++j) x(i, j) = rng.gaussian() + (j % classes == i % classes ? 1.0 : 0.0);
+    x.row(i).normalize();
+  }
+  std::vector<std::string> labels;
+  for (int c = 0; c < classes; ++c) labels.push_back("tool" + std::to_string(c));
+  for (auto _ : state) {
+    Eigen::MatrixXd scaled = x;
+    RlsModel model;
+    benchmark::DoNotOptimize(weigh_block(scaled, y, labels, groups, d - 64, 64, {}, model));
+  }
+  state.SetLabel(std::to_string(n) + " x " + std::to_string(d) + ", 6 labels, groups of 5");
+}
+BENCHMARK(BM_WeighColourBlock)->Args({90, 8453})->Args({1000, 2048})->Unit(benchmark::kMillisecond);
+
 // A generated 3x3 conv network (no pretrained weights here): the time of the dnn path around a network,
 // not of a real backbone, which depends on the model the user brings.
 void BM_DnnFeatures(benchmark::State& state) {
@@ -61,7 +101,7 @@ void BM_DnnFeatures(benchmark::State& state) {
   config.model = path.string();
   config.input_width = config.input_height = side;
   DnnFeatureExtractor extractor(config);
-  const cv::Mat crop = tool_like_crop();
+  const cv::Mat crop = tool_like_crop().image;
   for (auto _ : state) benchmark::DoNotOptimize(extractor.extract(crop));
   state.SetLabel("16-filter conv + pool at " + std::to_string(side) + "x" + std::to_string(side));
   std::filesystem::remove(path);

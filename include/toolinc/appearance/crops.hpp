@@ -2,6 +2,7 @@
 // blob's bounding box plus a margin on each side, clipped to the image, as the robot's bbdisp crops.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -31,6 +32,8 @@ struct ViewCrop {
   std::size_t view = 0;
   cv::Rect box;   // the crop in the left image, margin included
   cv::Mat image;  // BGR
+  cv::Mat mask;   // the blob in the crop (blob.png's), empty when the session has no blob.png
+  std::vector<Eigen::Vector3d> points;  // the blob's pixels with a disparity, in the left camera's frame (m)
 };
 
 // The crops of every view of a session (or only of `view`). The blob's bounding box comes from blob.png

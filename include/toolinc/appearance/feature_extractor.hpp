@@ -28,8 +28,12 @@ class FeatureExtractor {
   const std::string& name() const { return name_; }
   Eigen::Index dimension() const { return dimension_; }
   bool extracts_from_images() const { return name_ != "external"; }
-  // Features of an 8-bit BGR crop; throws std::logic_error for an external extractor.
-  Eigen::VectorXd extract(const cv::Mat& bgr) const;
+  const BuiltinFeatureConfig& builtin_config() const { return builtin_; }  // meaningful for "builtin" only
+  // Features of an 8-bit BGR crop and the blob's mask in it (empty when not recorded: the builtin
+  // descriptor estimates it; a network ignores it), and the blob's 3D points (ViewCrop::points; empty
+  // without depth; a network ignores them). Throws std::logic_error for an external extractor.
+  Eigen::VectorXd extract(const cv::Mat& bgr, const cv::Mat& mask = cv::Mat(),
+                          const std::vector<Eigen::Vector3d>& points = {}) const;
 
  private:
   std::string name_;

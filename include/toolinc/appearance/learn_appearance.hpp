@@ -22,7 +22,11 @@ struct TrainingSources {
 
 // The whole of `train`: the extractor is the network when a backbone is given, else the builtin
 // descriptor, else (features only) an external one of the database's dimension; features of every
-// sample, in source order (sessions, images, database); then the classifier. Throws InputError naming
+// sample, in source order (sessions, images, database); then the classifier: for the builtin descriptor
+// with its image shape blocks (beside depth), then its colour block weighed by leave-one-session-out
+// (weigh_block), and, trained on sessions of three
+// labels or more, with its unknown floor chosen on the training data (README "Recognising tools by
+// appearance", 6.; the defaults otherwise). Throws InputError naming
 // the file for unreadable input, a missing or reserved label, a box outside its image, or database
 // vectors whose length is not the extractor's; MethodError with fewer than two labels.
 // training_summary receives what the classifier file records about the data.

@@ -37,6 +37,23 @@ struct RlsModel {
 RlsModel train_rls(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
                    const std::vector<std::string>& labels, const RlsConfig& config = {});
 
+// The scores each row gets from the classifier fitted at `lambda` without the rows of its group (a group:
+// the views of one session, which resemble one another more than another grasp's), in closed form: with
+// the hat matrix H = 11^T / n + U diag(f) U^T, a group's left-out residuals are (I - H_gg)^-1 r_g.
+// groups: per row, any id. Throws std::invalid_argument on sizes that do not match.
+Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const std::vector<std::size_t>& targets,
+                                       std::size_t labels, const std::vector<std::size_t>& groups, double lambda);
+
+// How much a block of columns (a descriptor's colour, say) should count, decided by the data: the
+// classifier trained with the block scaled by each of 1, 1/2, 1/4, 1/8 and 0, keeping the weight whose
+// leave-group-out scores come closest to the targets (mean squared residual; ties keep the larger
+// weight). Features that change between the groups of one label (a colour all tools share) then count
+// for little, features that mark a label fully. Scales x's block in place, sets model to the classifier
+// trained on it and returns the weight.
+double weigh_block(Eigen::MatrixXd& x, const std::vector<std::size_t>& targets, const std::vector<std::string>& labels,
+                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size, const RlsConfig& config,
+                   RlsModel& model);
+
 // Scores, one row per feature row, one column per label.
 Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features);
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -75,6 +76,12 @@ struct SessionSimulatorConfig {
   double hand_texture = 0.10;   // skin or glove
   double table_texture = 0.30;  // wood grain and stains, on top of the grain's stripes
   double wall_texture = 0.30;   // posters, shelves, paint
+  // The tool's colour, r, g, b in 0-255; empty: drawn by the seed from tool_palette(), which every
+  // family shares, so colour says little about which tool it is. A model with colours keeps its own.
+  std::optional<std::array<int, 3>> tool_rgb;
+  // Sessions are recorded on different days: the light's brightness (+/- this share) and the wall's and
+  // table's tint (+/- half of it per channel) drawn by the seed. 0: always the same scene.
+  double scene_variation = 0.15;
   bool write_points = true;          // points.pcd
   bool write_blob = true;            // blob.png and the view's blob record
 
@@ -105,6 +112,10 @@ struct SimulatedSession {
 // root_from_camera of an eye at `eye` looking at `target`: optical z towards it, x to the image's right
 // (horizontal in the root frame), y down.
 Eigen::Matrix4d camera_looking_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+
+// The colours tools are painted in (r, g, b), shared by all families: grey, black, red, blue, yellow,
+// green, as lab tools are.
+const std::vector<std::array<int, 3>>& tool_palette();
 
 // What simulate-session --family F --seed S records: the family's default shape held with
 // exploration_grasp(S), everything else at its default.
