@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
                          {"right", r.right}, {"pose_right", r.pose_right}, {"tooltip_right", r.tooltip_right},
                          {"rotation_deg", r.errors.rotation_deg}, {"translation_m", r.errors.translation_m},
                          {"tooltip_m", r.errors.tooltip_m}, {"ambiguous", r.ambiguous}, {"feasible", r.feasible},
-                         {"view_points", r.view_points}, {"ms", r.ms}, {"failure", r.failure}});
+                         {"view_points", r.view_points}, {"failure", r.failure}});
       }
       const std::string base = models[m].name.substr(models[m].name.find_last_of('/') + 1);
       print_row(table, base, to_string(models[m].symmetry), tally);

@@ -25,7 +25,6 @@ PoseCaseResult evaluate_case(const PoseEvaluationModel& model, int grasp, const 
     r.right = r.pose_right || r.tooltip_right;
     r.ambiguous = result.ambiguous;
     r.feasible = result.feasibility.feasible;
-    r.ms = result.view_ms + result.global_ms + result.refine_ms;
   } catch (const MethodError& e) {
     r.failure = e.what();
   }

@@ -40,7 +40,6 @@ struct PoseCaseResult {
   bool right = false;          // either (a failure is wrong)
   bool ambiguous = false, feasible = false;
   int view_points = 0;
-  double ms = 0;
   std::string failure;    // the MethodError's reason when align-pose failed
 };
 
