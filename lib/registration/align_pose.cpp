@@ -159,8 +159,8 @@ double far_end_gap(const PoseModel& model, const Points& view, const Pose& model
 }
 
 // The head-weighted fit, discounted where the view's far end and the model's are more than slide_margin
-// apart (a Gaussian of that width beyond it): a tool's far end is always in view, so a pose that leaves
-// it short slid along a handle that could not tell.
+// apart (a Gaussian of that width beyond it): the eye fixates the tool, so its far end is normally in
+// view, and a pose that leaves it short slid along a handle that could not tell.
 double pose_score(const PoseModel& model, const Points& view, const std::vector<double>& weights,
                   const Pose& model_from_view, const AlignPoseConfig& config) {
   const double excess =

@@ -49,8 +49,10 @@ struct AlignPoseConfig {
   // The slide along a plain handle, which the fit leaves free, pinned by the view's far end.
   double slide_step = 0.002;      // m: step of the 1-D search along the handle (under the view's 3 mm
                                   //    resampling and the 5 mm a pose may be off)
-  double slide_margin = 0.01;     // m: searched beyond the view's far end meeting the model's (the ends'
-                                  //    quantiles differ by the noise and a partly seen end face)
+  double slide_margin = 0.01;     // m: far ends of view and model this far apart still meet (their
+                                  //    quantiles differ by the noise and a partly seen end face): searched
+                                  //    this far beyond; further apart, the fit is discounted (a Gaussian
+                                  //    of this width)
 
   // Local refinement (view onto model). A lighter prior than the default: the refinement starts from a
   // coarse hypothesis, and the view's head must be free to turn the tool about its handle.
