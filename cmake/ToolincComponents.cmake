@@ -7,9 +7,8 @@ set(TOOLINC_COMPONENT_FOLDERS app yarp CACHE INTERNAL "")  # the apps' glue and 
 # Sources that are in lib/ but only the tests and benchmarks use (tests/support builds them).
 set(TOOLINC_TEST_ONLY_SOURCES
     ${PROJECT_SOURCE_DIR}/lib/appearance/onnx_writer.cpp
-    ${PROJECT_SOURCE_DIR}/lib/synth/partial_view.cpp
     CACHE INTERNAL "")
-set(TOOLINC_TEST_ONLY_HEADERS appearance/onnx_writer.hpp synth/partial_view.hpp CACHE INTERNAL "")
+set(TOOLINC_TEST_ONLY_HEADERS appearance/onnx_writer.hpp CACHE INTERNAL "")
 
 # toolinc_component(NAME FOLDERS dir... [EXTRA file...] [EXCLUDE file...] [PUBLIC dep...] [PRIVATE dep...])
 function(toolinc_component name)

@@ -109,6 +109,11 @@ void add_align_pose_options(CLI::App& cli, AlignPoseConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 180.0));
   cli.add_option("--refine-candidates", c.refine_candidates, "Distinct hypotheses refined fully")
       ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--slide-step", c.slide_step, "Step of the search along the handle pinned by the far end (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--slide-margin", c.slide_margin,
+                 "Far ends of view and model this far apart still meet; beyond, the fit is discounted (m)")
+      ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--max-iterations", c.icp.max_iterations, "Iterations of the final ICP")
       ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--max-correspondence", c.icp.max_correspondence, "Correspondence distance of the final ICP (m)")

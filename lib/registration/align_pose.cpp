@@ -150,6 +150,24 @@ std::vector<Pose> frame_hypotheses(const HandleGuess& model_handle, const Points
   return hypotheses;
 }
 
+// How far the view's far end, placed by model_from_view, falls short of the model's along the handle (m;
+// negative beyond it).
+double far_end_gap(const PoseModel& model, const Points& view, const Pose& model_from_view) {
+  const Vec3 outwards = -model.frame.handle_axis();  // from the hand to the far end
+  return extent_along(model.target.points, outwards, kEndShare).second -
+         extent_along(transform_points(view, model_from_view), outwards, kEndShare).second;
+}
+
+// The head-weighted fit, discounted where the view's far end and the model's are more than slide_margin
+// apart (a Gaussian of that width beyond it): the eye fixates the tool, so its far end is normally in
+// view, and a pose that leaves it short slid along a handle that could not tell.
+double pose_score(const PoseModel& model, const Points& view, const std::vector<double>& weights,
+                  const Pose& model_from_view, const AlignPoseConfig& config) {
+  const double excess =
+      std::max(0.0, std::abs(far_end_gap(model, view, model_from_view)) - config.slide_margin) / config.slide_margin;
+  return weighted_fit(model.target, view, weights, model_from_view, config.score_sigma) * std::exp(-0.5 * excess * excess);
+}
+
 bool same_pose(const Pose& a, const Pose& b, const AlignPoseConfig& config) {
   return rotation_difference_deg(a, b) < config.same_pose_deg &&
          (a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).norm() < config.same_pose_m;
@@ -177,7 +195,19 @@ std::vector<Scored> best_hypotheses(const PoseModel& model, const Points& view,
     scored.push_back({hypothesis, weighted_fit(model.target, coarse, weights, hypothesis, config.prescore_sigma)});
   tested = static_cast<int>(scored.size());
   sort_by_score(scored);
-  scored.resize(std::min<std::size_t>(scored.size(), static_cast<std::size_t>(config.coarse_candidates)));
+  // The best hypotheses, and the best feasible ones too: where the shape alone cannot tell (a stick
+  // either way round fits about as well) the infeasible ones could fill every place, and the hand must
+  // still have a pose to decide on.
+  const std::size_t keep = std::min<std::size_t>(scored.size(), static_cast<std::size_t>(config.coarse_candidates));
+  const auto feasible_hypothesis = [&](const Scored& s) {
+    return check_feasibility(inverse(s.model_from_view), config).feasible;
+  };
+  std::vector<Scored> chosen(scored.begin(), scored.begin() + static_cast<std::ptrdiff_t>(keep));
+  const std::size_t feasible_wanted = keep / 2;
+  std::size_t feasible_kept = static_cast<std::size_t>(std::count_if(chosen.begin(), chosen.end(), feasible_hypothesis));
+  for (std::size_t i = keep; i < scored.size() && feasible_kept < feasible_wanted; ++i)
+    if (feasible_hypothesis(scored[i])) chosen.push_back(scored[i]), ++feasible_kept;
+  scored = std::move(chosen);
 
   IcpConfig far = config.icp, near = config.icp;
   far.max_iterations = near.max_iterations = config.coarse_iterations;
@@ -189,7 +219,7 @@ std::vector<Scored> best_hypotheses(const PoseModel& model, const Points& view,
   for (auto& s : scored) {
     const Pose pose = align_point_to_plane(coarse, model.target, s.model_from_view, far).target_from_source;
     s.model_from_view = align_point_to_plane(coarse, model.target, pose, near).target_from_source;
-    s.score = weighted_fit(model.target, coarse, weights, s.model_from_view, config.score_sigma);
+    s.score = pose_score(model, coarse, weights, s.model_from_view, config);
   }
   sort_by_score(scored);
   // Where the tool's symmetry lets poses fit about as well (a stick either way round), the hand decides:
@@ -206,6 +236,36 @@ std::vector<Scored> best_hypotheses(const PoseModel& model, const Points& view,
       distinct.push_back(s);
   }
   return distinct;
+}
+
+// The slide along the handle that a view of a plain handle leaves free (point-to-plane ICP feels no
+// pull along a cylinder): the view's far end pins it. The view is shifted along the model's handle
+// between where it is and where its far end meets the model's (and `slide_margin` beyond either); of
+// the shifts fitting as well as the best (within ambiguity_margin) the one taking the view farthest out
+// wins. A tool with a head fits well only where it is, so only a plain handle moves.
+Pose pin_far_end(const PoseModel& model, const Points& view, const std::vector<double>& weights,
+                 const Pose& model_from_view, const AlignPoseConfig& config) {
+  const Vec3 outwards = -model.frame.handle_axis();  // from the hand to the far end
+  const double gap = far_end_gap(model, view, model_from_view);
+  const double lo = std::min(0.0, gap) - config.slide_margin, hi = std::max(0.0, gap) + config.slide_margin;
+  const int steps = static_cast<int>(std::ceil((hi - lo) / config.slide_step));
+  std::vector<std::pair<double, double>> fits;  // shift, fit
+  double best = 0.0;
+  for (int k = 0; k <= steps; ++k) {
+    const double shift = lo + k * (hi - lo) / std::max(1, steps);
+    Pose moved = model_from_view;
+    moved.topRightCorner<3, 1>() += shift * outwards;
+    fits.emplace_back(shift, weighted_fit(model.target, view, weights, moved, config.score_sigma));
+    best = std::max(best, fits.back().second);
+  }
+  const double at_rest = weighted_fit(model.target, view, weights, model_from_view, config.score_sigma);
+  if (at_rest >= best - config.ambiguity_margin && gap <= config.slide_step) return model_from_view;
+  double chosen = 0.0;
+  for (const auto& [shift, fit] : fits)
+    if (fit >= best - config.ambiguity_margin) chosen = shift;
+  Pose moved = model_from_view;
+  moved.topRightCorner<3, 1>() += chosen * outwards;
+  return moved;
 }
 
 }  // namespace
@@ -288,12 +348,17 @@ PoseResult align_pose(const PoseModel& model, const Points& view, const AlignPos
 
   start = std::chrono::steady_clock::now();
   const std::vector<double> weights = head_weights(points);
+  const Points coarse = spread_subset(points, static_cast<std::size_t>(config.coarse_points));
+  const std::vector<double> coarse_weights = head_weights(coarse);
   std::vector<PoseCandidate> refined;
   for (const auto& hypothesis : hypotheses) {
-    const IcpResult icp = align_point_to_plane(points, model.target, hypothesis.model_from_view, config.icp);
+    IcpResult icp = align_point_to_plane(points, model.target, hypothesis.model_from_view, config.icp);
+    const Pose pinned = pin_far_end(model, coarse, coarse_weights, icp.target_from_source, config);
+    if (!pinned.isApprox(icp.target_from_source))
+      icp = align_point_to_plane(points, model.target, pinned, config.icp);
     PoseCandidate c;
     c.hand_from_model = inverse(icp.target_from_source);
-    c.score = weighted_fit(model.target, points, weights, icp.target_from_source, config.score_sigma);
+    c.score = pose_score(model, points, weights, icp.target_from_source, config);
     c.inlier_ratio = icp.inlier_ratio;
     c.inlier_rmse = icp.inlier_rmse;
     c.iterations = icp.iterations;

@@ -38,23 +38,43 @@ Points render_partial_view(const SessionSimulatorConfig& scene, const PartialVie
   return view;
 }
 
+namespace {
+
+// The case's grasp drawn from rng, the view rendered from `scene` (its tool set), the truth of `model`.
+PartialViewCase held_case(SessionSimulatorConfig scene, PointCloud model, ToolSymmetry symmetry, Rng& rng,
+                          const GraspRange& range, const PartialViewConfig& config) {
+  PartialViewCase c;
+  c.shape = scene.shape;
+  c.grasp = random_grasp(range, rng);
+  scene.hand_from_canonical = c.grasp;
+  c.view = render_partial_view(scene, config, rng);
+  c.model = std::move(model);
+  c.truth = tool_ground_truth(c.model.points, symmetry, c.grasp);
+  return c;
+}
+
+}  // namespace
+
 PartialViewCase make_partial_view_case(ToolFamily family, std::uint32_t seed, const GraspRange& range,
                                        const PartialViewConfig& config) {
   Rng rng(seed * 7919u + static_cast<std::uint32_t>(family) * 104729u + 23u);
-  PartialViewCase c;
-  c.shape = default_shape(family);
-  for (double* v : {&c.shape.handle_length, &c.shape.handle_radius, &c.shape.head_length, &c.shape.head_width,
-                    &c.shape.head_height})
-    *v *= 1.0 + rng.uniform(-0.15, 0.15);
-  c.grasp = random_grasp(range, rng);
   SessionSimulatorConfig scene;
-  scene.shape = c.shape;
+  scene.shape = default_shape(family);
+  for (double* v : {&scene.shape.handle_length, &scene.shape.handle_radius, &scene.shape.head_length,
+                    &scene.shape.head_width, &scene.shape.head_height})
+    *v *= 1.0 + rng.uniform(-0.15, 0.15);
   scene.seed = seed;
-  scene.hand_from_canonical = c.grasp;
-  c.view = render_partial_view(scene, config, rng);
-  c.model = generate_tool(c.shape, seed + 1);
-  c.truth = tool_ground_truth(c.model.points, symmetry_of(family), c.grasp);
-  return c;
+  return held_case(scene, generate_tool(scene.shape, seed + 1), symmetry_of(family), rng, range, config);
+}
+
+PartialViewCase make_model_partial_view_case(const PointCloud& model, ToolSymmetry symmetry, std::uint32_t seed,
+                                             const GraspRange& range, const PartialViewConfig& config) {
+  Rng rng(seed * 7919u + 23u);
+  SessionSimulatorConfig scene;
+  scene.model = model;
+  scene.model_symmetry = symmetry;
+  scene.seed = seed;
+  return held_case(scene, model, symmetry, rng, range, config);
 }
 
 PoseErrors pose_errors(const PartialViewCase& c, const Eigen::Matrix4d& estimate) {

@@ -89,6 +89,14 @@ def test_model_evaluation(tool, tmp_path):
     check("model_evaluation", evaluation)
 
 
+def test_pose_evaluation(tool, tmp_path):
+    model, evaluation = tmp_path / "hook1.ply", tmp_path / "poses.json"
+    assert tool("generate-tool", "--family", "hook", "-o", model, "-q").returncode == 0
+    assert tool("evaluate-poses", model, "--grasps", 2, "-o", evaluation, "-q").returncode == 0
+    document = check("pose_evaluation", evaluation)
+    assert document["kinds"][0]["kind"] == "hok"
+
+
 def test_classification(tool, tmp_path):
     sessions = []
     for family, seed in [("hoe", 1), ("rake", 2)]:

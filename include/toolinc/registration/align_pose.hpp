@@ -22,7 +22,8 @@ struct AlignPoseConfig {
   // Inputs.
   double hand_radius = 0.06;      // m: view points this close to the hand origin are the hand's (the
                                   //    original's crop); also the tool frames' hand radius
-  int min_view_points = 200;      // fewer resampled view points than this cannot fix a pose
+  int min_view_points = 100;      // fewer resampled view points than this cannot fix a pose (a thin
+                                  //    stick's visible strip, 1 cm wide and 30 cm long at 3 mm, has 100)
   double max_extent_ratio = 20.0; // model and view extents further apart than this factor are in
                                   //    different units (mm against m is 1000)
   double model_voxel = 0.003;     // m: the model is resampled to this for the ICP target
@@ -44,6 +45,14 @@ struct AlignPoseConfig {
   int refine_candidates = 3;      // distinct hypotheses refined fully
   double same_pose_deg = 5.0;     // hypotheses closer than this rotation ...
   double same_pose_m = 0.01;      // ... and this translation converged to the same pose
+
+  // The slide along a plain handle, which the fit leaves free, pinned by the view's far end.
+  double slide_step = 0.002;      // m: step of the 1-D search along the handle (under the view's 3 mm
+                                  //    resampling and the 5 mm a pose may be off)
+  double slide_margin = 0.01;     // m: far ends of view and model this far apart still meet (their
+                                  //    quantiles differ by the noise and a partly seen end face): searched
+                                  //    this far beyond; further apart, the fit is discounted (a Gaussian
+                                  //    of this width)
 
   // Local refinement (view onto model). A lighter prior than the default: the refinement starts from a
   // coarse hypothesis, and the view's head must be free to turn the tool about its handle.

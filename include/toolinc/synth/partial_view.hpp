@@ -42,6 +42,12 @@ struct PartialViewCase {
 };
 PartialViewCase make_partial_view_case(ToolFamily family, std::uint32_t seed, const GraspRange& range = any_grasp_range(),
                                        const PartialViewConfig& config = {});
+// The same for a canonical model (e.g. a CAD model read from a file) with the given symmetry: the model
+// itself is rendered (its points as the dense samples) and is the case's model. Deterministic for
+// (model, seed).
+PartialViewCase make_model_partial_view_case(const PointCloud& model, ToolSymmetry symmetry, std::uint32_t seed,
+                                             const GraspRange& range = any_grasp_range(),
+                                             const PartialViewConfig& config = {});
 
 // Errors of an estimated hand_from_canonical, modulo the tool's symmetry: the rotation (for an axial tool
 // only the handle's direction counts), the translation of the canonical origin (the handle's start, on
