@@ -16,7 +16,7 @@
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
 #include "toolinc/synth/pose_evaluation.hpp"
-#include "toolinc/synth/tool_kind.hpp"
+#include "toolinc/synth/model_kinds.hpp"
 
 using namespace toolinc;
 
@@ -56,10 +56,14 @@ void print_row(std::FILE* table, const std::string& name, const std::string& ext
 int main(int argc, char** argv) {
   Command command("evaluate-poses", "align-pose accuracy on canonical models under random grasps, one partial view each",
                   {"align-pose", "evaluate-poses"});
-  std::vector<std::string> files;
+  std::vector<std::string> inputs;
+  std::string kinds_file;
   PoseEvaluationConfig config;
   auto& cli = command.cli();
-  cli.add_option("models", files, "Canonical models (handle from the origin along -Y, effector +X)")->required();
+  cli.add_option("models", inputs, "Canonical models (handle from the origin along -Y, effector +X), or folders of them")
+      ->required();
+  cli.add_option("--kinds", kinds_file,
+                 "JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters (hok -> hook, ...)");
   cli.add_option("--grasps", config.grasps, "Random grasps per model")->capture_default_str()->check(CLI::PositiveNumber);
   cli.add_option("--seed", config.seed, "Seed of the grasps, views and noise")->capture_default_str();
   cli.add_option("-j,--jobs", config.jobs, "Cases evaluated in parallel (the results do not depend on it)")
@@ -67,11 +71,12 @@ int main(int argc, char** argv) {
   command.add_output("Per-case results JSON (- for stdout)", false);
   add_align_pose_options(cli, config.align);
   return command.run(argc, argv, [&] {
+    const KindMap kinds_map = kinds_file.empty() ? KindMap{} : read_kind_map(kinds_file);
     std::vector<PoseEvaluationModel> models;
-    for (const auto& file : files) {
+    for (const auto& file : expand_model_paths(inputs)) {
       PointCloud cloud = load_cloud(file);
       const ToolSymmetry symmetry = measure_symmetry(cloud.points);
-      models.push_back({file, tool_kind(file), std::move(cloud), symmetry});
+      models.push_back({file, model_kind(file, kinds_map), std::move(cloud), symmetry});
     }
     const std::vector<PoseCaseResult> results = evaluate_poses(models, config);
 

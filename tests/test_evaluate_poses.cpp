@@ -1,4 +1,4 @@
-// evaluate-poses: the kind of a tool from its file name, and the executable's table and JSON on generated
+// evaluate-poses: the executable's table and JSON on generated
 // models (the same for any -j), its rates against the cases it lists, bad input.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,6 @@
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/tool_generator.hpp"
-#include "toolinc/synth/tool_kind.hpp"
 
 namespace toolinc {
 namespace {
@@ -14,17 +13,6 @@ namespace {
 using testing::run_tool;
 using testing::scratch_dir;
 using testing::slurp;
-
-TEST(ToolKind, FileNamePrefixGroupedAcrossSpellings) {
-  EXPECT_EQ(tool_kind("/a/b/HOK1.pcd"), "hok");
-  EXPECT_EQ(tool_kind("hook_ICRA.pcd"), "hok");
-  EXPECT_EQ(tool_kind("hok7.pcd"), "hok");
-  EXPECT_EQ(tool_kind("hoe2_ICRA.pcd"), "hoe");
-  EXPECT_EQ(tool_kind("dir.with.dots/sti3.pcd"), "sti");
-  EXPECT_EQ(tool_kind("flaT.pcd"), "flat");
-  EXPECT_EQ(tool_kind("Lstk.pcd"), "lstk");
-  EXPECT_EQ(tool_kind("star.pcd"), "star");
-}
 
 TEST(EvaluatePoses, TableAndJsonOnGeneratedModels) {
   const auto dir = scratch_dir("evaluate-poses");
@@ -45,8 +33,8 @@ TEST(EvaluatePoses, TableAndJsonOnGeneratedModels) {
   const Json results = read_json((dir / "one.json").string());
   EXPECT_EQ(results["type"], "pose_evaluation");
   ASSERT_EQ(results["cases"].size(), 9u);
-  ASSERT_EQ(results["kinds"].size(), 2u);  // hoe, and hok for both spellings
-  EXPECT_EQ(results["kinds"][1]["kind"], "hok");
+  ASSERT_EQ(results["kinds"].size(), 2u);  // hoe, and hook for both spellings
+  EXPECT_EQ(results["kinds"][1]["kind"], "hook");
   EXPECT_EQ(results["kinds"][1]["cases"], 6);
   // Each rate is the count of the cases listed as right, its interval around it.
   int right = 0;

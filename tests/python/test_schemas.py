@@ -94,7 +94,7 @@ def test_pose_evaluation(tool, tmp_path):
     assert tool("generate-tool", "--family", "hook", "-o", model, "-q").returncode == 0
     assert tool("evaluate-poses", model, "--grasps", 2, "-o", evaluation, "-q").returncode == 0
     document = check("pose_evaluation", evaluation)
-    assert document["kinds"][0]["kind"] == "hok"
+    assert document["kinds"][0]["kind"] == "hook"
 
 
 def test_classification(tool, tmp_path):

@@ -26,7 +26,7 @@ struct PoseEvaluationConfig {
 
 struct PoseEvaluationModel {
   std::string name;       // the file, as given
-  std::string kind;       // tool_kind(name)
+  std::string kind;       // model_kind(name)
   PointCloud cloud;       // canonical
   ToolSymmetry symmetry;  // measured (measure_symmetry)
 };
