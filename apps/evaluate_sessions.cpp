@@ -17,11 +17,15 @@
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
+#include "toolinc/synth/model_kinds.hpp"
 
 namespace {
 
+// One session: of a generated family, or of a canonical model (model >= 0); group is the row it counts in.
 struct Case {
+  std::string group;
   toolinc::ToolFamily family;
+  int model;
   std::uint32_t seed;
   toolinc::SessionErrors errors;
 };
@@ -31,7 +35,8 @@ struct Case {
 int main(int argc, char** argv) {
   toolinc::Command command("evaluate-sessions", "Whole-pipeline accuracy on simulated sessions of every tool family",
                            {"estimate-frame", "find-tooltip", "evaluate-sessions"});
-  std::vector<std::string> family_names;
+  std::vector<std::string> family_names, model_inputs;
+  std::string kinds_file;
   std::uint32_t first_seed = 100;
   int grasps = 10;
   double tip_tolerance = 0.010;
@@ -39,7 +44,12 @@ int main(int argc, char** argv) {
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "ideal";  // add_tooltip_options sets rule's default
   auto& cli = command.cli();
-  cli.add_option("--families", family_names, "Tool families (default: all)");
+  cli.add_option("--families", family_names, "Tool families (default: all, unless --models)");
+  cli.add_option("--models", model_inputs,
+                 "Canonical models or folders of them, simulated as simulate-session --model (symmetry "
+                 "measured); reported per kind of tool");
+  cli.add_option("--kinds", kinds_file,
+                 "With --models: JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters");
   cli.add_option("--first-seed", first_seed, "Seed of the first grasp; grasp g uses first-seed + g")
       ->capture_default_str();
   cli.add_option("--grasps", grasps, "Sessions per family")->capture_default_str()->check(CLI::PositiveNumber);
@@ -63,10 +73,34 @@ int main(int argc, char** argv) {
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));
-    if (families.empty()) families = toolinc::all_families();
+    if (families.empty() && model_inputs.empty()) families = toolinc::all_families();
+    const toolinc::KindMap kinds = kinds_file.empty() ? toolinc::KindMap{} : toolinc::read_kind_map(kinds_file);
+    struct Model {
+      std::string path, kind;
+      toolinc::PointCloud cloud;
+      toolinc::ToolSymmetry symmetry;
+    };
+    std::vector<Model> models;
+    for (const auto& path : toolinc::expand_model_paths(model_inputs)) {
+      toolinc::PointCloud cloud = toolinc::load_cloud(path);
+      const auto symmetry = toolinc::measure_symmetry(cloud.points);
+      models.push_back({path, toolinc::model_kind(path, kinds), std::move(cloud), symmetry});
+    }
     std::vector<Case> cases;
-    for (const auto family : families)
-      for (int g = 0; g < grasps; ++g) cases.push_back({family, first_seed + static_cast<std::uint32_t>(g), {}});
+    std::vector<std::string> groups;  // in the order of the table
+    const auto add_group = [&](const std::string& g) {
+      if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+    };
+    for (const auto family : families) {
+      add_group(toolinc::to_string(family));
+      for (int g = 0; g < grasps; ++g)
+        cases.push_back({toolinc::to_string(family), family, -1, first_seed + static_cast<std::uint32_t>(g), {}});
+    }
+    for (std::size_t m = 0; m < models.size(); ++m) {
+      add_group(models[m].kind);
+      for (int g = 0; g < grasps; ++g)
+        cases.push_back({models[m].kind, {}, static_cast<int>(m), first_seed + static_cast<std::uint32_t>(g), {}});
+    }
 
     // Each case is independent and writes only its own slot, so the output is the same for any -j.
     const toolinc::Progress progress("evaluating sessions");
@@ -74,7 +108,10 @@ int main(int argc, char** argv) {
     std::mutex progress_mutex;
     const auto worker = [&] {
       for (std::size_t i; (i = next++) < cases.size();) {
-        toolinc::SessionSimulatorConfig session = toolinc::family_session(cases[i].family, cases[i].seed);
+        const Case& c = cases[i];
+        toolinc::SessionSimulatorConfig session =
+            c.model < 0 ? toolinc::family_session(c.family, c.seed)
+                        : toolinc::model_session(models[c.model].cloud, models[c.model].path, models[c.model].symmetry, c.seed);
         session.stereo = toolinc::stereo_model_from_string(stereo);
         cases[i].errors = toolinc::evaluate_simulated_session(session, pipeline);
         const std::lock_guard<std::mutex> lock(progress_mutex);
@@ -90,7 +127,7 @@ int main(int argc, char** argv) {
     std::FILE* table = command.output() == "-" ? stderr : stdout;
     const double tolerance_mm = 1000 * tip_tolerance;
     const std::string within_header = fmt::format("tip<={:g}mm", tolerance_mm);
-    std::fprintf(table, "%-9s %8s %10s %13s %9s %9s %9s %8s\n", "family", "sessions", within_header.c_str(),
+    std::fprintf(table, "%-9s %8s %10s %13s %9s %9s %9s %8s\n", models.empty() ? "family" : "kind", "sessions", within_header.c_str(),
                  "95% interval", "tip med", "tip max", "model med", "failed");
     toolinc::Json results = toolinc::Json::array(), summary = toolinc::Json::array();
     int total = 0, total_within = 0;
@@ -101,34 +138,35 @@ int main(int argc, char** argv) {
                          {"rate", static_cast<double>(within) / sessions}, {"rate_interval_95", {lo, hi}}});
       return fmt::format("{:.1f}-{:.1f}%", 100 * lo, 100 * hi);
     };
-    for (const auto family : families) {
-      std::vector<double> tips, models;
+    for (const auto& group : groups) {
+      std::vector<double> tips, model_medians;
       int within = 0, failed = 0, sessions = 0;
       for (const auto& c : cases) {
-        if (c.family != family) continue;
+        if (c.group != group) continue;
         ++sessions;
         const auto& e = c.errors;
         const toolinc::Json tooltip_error = e.tool.failure.empty() ? toolinc::Json(e.tool.tooltip_m) : toolinc::Json();
-        results.push_back({{"family", toolinc::to_string(family)}, {"seed", c.seed}, {"tooltip_error_m", tooltip_error},
+        results.push_back({{"family", group}, {"model", c.model < 0 ? toolinc::Json() : toolinc::Json(models[c.model].path)},
+                           {"seed", c.seed}, {"tooltip_error_m", tooltip_error},
                            {"handle_axis_error_deg", e.tool.handle_axis_deg},
                            {"effector_sign_right", e.tool.effector_sign_right}, {"model_median_m", e.model_median_m},
                            {"views_rejected", e.views_rejected}, {"failure", e.tool.failure}});
         if (!e.tool.failure.empty()) {
           ++failed;
-          spdlog::warn("{} seed {}: {}", toolinc::to_string(family), c.seed, e.tool.failure);
+          spdlog::warn("{} seed {}: {}", c.model < 0 ? group : models[c.model].path, c.seed, e.tool.failure);
           continue;
         }
         tips.push_back(e.tool.tooltip_m);
-        models.push_back(e.model_median_m);
+        model_medians.push_back(e.model_median_m);
         within += e.tool.tooltip_m <= tip_tolerance;
       }
       total += sessions;
       total_within += within;
       const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
-      const std::string interval = rate(toolinc::to_string(family), within, sessions);
-      std::fprintf(table, "%-9s %8d %9.1f%% %13s %7.1fmm %7.1fmm %7.2fmm %8d\n", toolinc::to_string(family).c_str(),
-                   sessions, 100.0 * within / sessions, interval.c_str(), 1000 * toolinc::median(tips),
-                   1000 * worst, 1000 * toolinc::median(models), failed);
+      const std::string interval = rate(group, within, sessions);
+      std::fprintf(table, "%-9s %8d %9.1f%% %13s %7.1fmm %7.1fmm %7.2fmm %8d\n", group.c_str(), sessions,
+                   100.0 * within / sessions, interval.c_str(), 1000 * toolinc::median(tips), 1000 * worst,
+                   1000 * toolinc::median(model_medians), failed);
     }
     const std::string interval = rate("all", total_within, total);
     std::fprintf(table, "all: tooltip within %g mm in %d of %d sessions (%.1f%%, 95%% interval %s)\n", tolerance_mm,

@@ -11,6 +11,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/synth/evaluation.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/session_simulator.hpp"
@@ -44,7 +45,7 @@ std::array<int, 3> parse_colour(const std::string& text) {
 int main(int argc, char** argv) {
   toolinc::Command command("simulate-session", "Simulate a recorded tool-exploration session with ground truth");
   toolinc::SessionSimulatorConfig config;
-  std::string family = "hoe", model_file, symmetry = "mirror", grasp = "random", label, colour;
+  std::string family = "hoe", model_file, symmetry = "measured", grasp = "random", label, colour;
   std::vector<std::string> gross_errors;
   double kinematic_mm = config.kinematic_error_m * 1000.0;
   bool no_points = false, no_blob = false;
@@ -54,8 +55,10 @@ int main(int argc, char** argv) {
   cli.add_option("--model", model_file, "A tool model in the canonical pose (PLY or PCD) instead of a family")
       ->check(CLI::ExistingFile)
       ->excludes(family_option);
-  cli.add_option("--symmetry", symmetry, "The model's symmetry")
-      ->check(CLI::IsMember({"mirror", "front_back", "fourfold", "axial"}))
+  cli.add_option("--symmetry", symmetry,
+                 "The model's symmetry, which makes its ground truth a set of tips: measured (from the model's "
+                 "mirror planes), mirror, front_back, fourfold or axial")
+      ->check(CLI::IsMember({"measured", "mirror", "front_back", "fourfold", "axial"}))
       ->capture_default_str();
   cli.add_option("--seed", config.seed, "Seed of the grasp, the errors and the noise")->capture_default_str();
   cli.add_option("--grasp", grasp, "random (drawn from the seed) or canonical (identity)")
@@ -96,7 +99,8 @@ int main(int argc, char** argv) {
     } else {
       config.model = toolinc::load_cloud(model_file);
       config.model_name = std::filesystem::path(model_file).filename().string();
-      config.model_symmetry = toolinc::symmetry_from_string(symmetry);
+      config.model_symmetry = symmetry == "measured" ? toolinc::measure_symmetry(config.model.points)
+                                                     : toolinc::symmetry_from_string(symmetry);
     }
     if (grasp == "random") config.hand_from_canonical = toolinc::exploration_grasp(config.seed);
     if (!label.empty()) config.tool_label = label;

@@ -83,3 +83,26 @@ TEST(ModelKinds, EvaluateModelsReportsEveryKindWithItsInterval) {
   EXPECT_EQ(json["all"]["cases"], 36);
   EXPECT_NE(run.out.find("plate"), std::string::npos);
 }
+
+TEST(ModelKinds, EvaluateSessionsOfModelsPerKind) {
+  // Sessions of canonical models, as simulate-session --model simulates them (symmetry measured): one row
+  // per kind, the model named in every session record.
+  const auto dir = scratch_dir("evaluate-sessions-models");
+  std::filesystem::create_directories(dir / "models");
+  write_ply((dir / "models" / "blade1.ply").string(), generate_tool(default_shape(ToolFamily::blade), 2));
+  write_ply((dir / "models" / "cross1.ply").string(), generate_tool(default_shape(ToolFamily::cross), 2));
+  const auto run = run_tool("evaluate-sessions", "-q --grasps 2 --models " + (dir / "models").string() + " -o " +
+                                                     (dir / "out.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json json = read_json((dir / "out.json").string());
+  ASSERT_EQ(json["sessions"].size(), 4u);
+  for (const auto& session : json["sessions"]) {
+    EXPECT_TRUE(session["model"].is_string());
+    EXPECT_TRUE(session["failure"].get<std::string>().empty()) << session["failure"];
+  }
+  ASSERT_EQ(json["summary"].size(), 3u);  // blade, cross, all
+  EXPECT_EQ(json["summary"][0]["family"], "blade");
+  EXPECT_EQ(json["summary"][1]["family"], "cross");
+  EXPECT_EQ(json["summary"][2]["family"], "all");
+  EXPECT_EQ(json["summary"][2]["sessions"], 4);
+}

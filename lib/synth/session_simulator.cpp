@@ -118,6 +118,17 @@ SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed) {
   return config;
 }
 
+SessionSimulatorConfig model_session(const PointCloud& model, const std::string& name, ToolSymmetry symmetry,
+                                     std::uint32_t seed) {
+  SessionSimulatorConfig config;
+  config.model = model;
+  config.model_name = name;
+  config.model_symmetry = symmetry;
+  config.seed = seed;
+  config.hand_from_canonical = exploration_grasp(seed);
+  return config;
+}
+
 SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
   check(config);
   const RenderModel model = render_model(config);

@@ -120,6 +120,9 @@ const std::vector<std::array<int, 3>>& tool_palette();
 // What simulate-session --family F --seed S records: the family's default shape held with
 // exploration_grasp(S), everything else at its default.
 SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed);
+// The same for a canonical model (simulate-session --model FILE --seed S): its symmetry as given.
+SessionSimulatorConfig model_session(const PointCloud& model, const std::string& name, ToolSymmetry symmetry,
+                                     std::uint32_t seed);
 
 // Throws std::invalid_argument on a bad hand name, an empty pose list, a gross error for a view that does
 // not exist, or a grasp that is not rigid.
