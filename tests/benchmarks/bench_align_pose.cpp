@@ -14,6 +14,7 @@
 #include <functional>
 #include <vector>
 
+#include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/registration/align_pose.hpp"
 #include "toolinc/synth/partial_view.hpp"
 
@@ -126,6 +127,43 @@ void BM_PclStockIcpConverged(benchmark::State& state) {
   state.SetLabel("pcl::IterativeClosestPoint<PointXYZ>, same pair and start, run to convergence");
 }
 BENCHMARK(BM_PclStockIcpConverged)->Unit(benchmark::kMillisecond);
+
+// Like for like with our point-to-plane refinement: PCL's point-to-plane ICP on the same pair, start and
+// normals (ours, from 10 neighbours), our correspondence distance, run to convergence. The counters are
+// the final rotation and translation errors against the truth.
+void BM_PclPointToPlaneIcp(benchmark::State& state) {
+  const Pair& p = pair();
+  const auto with_normals = [](const Points& points) {
+    const Points normals = estimate_normals(points, 10);
+    pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      pcl::PointNormal q;
+      q.getVector3fMap() = points[i].cast<float>();
+      q.getNormalVector3fMap() = normals[i].cast<float>();
+      cloud->push_back(q);
+    }
+    return cloud;
+  };
+  const auto source = with_normals(p.view), target = with_normals(p.model);
+  Eigen::Matrix4d result = Eigen::Matrix4d::Identity();
+  for (auto _ : state) {
+    pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
+    icp.setInputSource(source);
+    icp.setInputTarget(target);
+    icp.setMaximumIterations(200);
+    icp.setMaxCorrespondenceDistance(0.01);
+    icp.setTransformationEpsilon(1e-10);
+    pcl::PointCloud<pcl::PointNormal> aligned;
+    icp.align(aligned, p.initial.cast<float>());
+    result = icp.getFinalTransformation().cast<double>();
+    benchmark::DoNotOptimize(result);
+  }
+  const Eigen::Matrix4d error = result * p.grasp;  // model_from_view * view_from_model: identity when right
+  state.counters["rotation_error_deg"] = Eigen::AngleAxisd(Eigen::Matrix3d(error.topLeftCorner<3, 3>())).angle() * 180 / M_PI;
+  state.counters["translation_error_mm"] = 1000 * error.topRightCorner<3, 1>().norm();
+  state.SetLabel("pcl::IterativeClosestPointWithNormals<PointNormal>, same pair, start and normals");
+}
+BENCHMARK(BM_PclPointToPlaneIcp)->Unit(benchmark::kMillisecond);
 #endif
 
 double median_ms(const std::function<void()>& run, int repetitions) {
