@@ -71,8 +71,9 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
   // The tie-break. furthest: the distance from the hand. weighted: the original's score with the
   // distance in front averaged over the smoothing-neighbors nearest points: along a flat front the
   // score changes by only (1 - w) per metre, so a point's own noise would move the choice by several
-  // times that noise; the mean's noise is about 3 times smaller, its bias second order in the
-  // neighbourhood's size.
+  // times that noise; the mean's noise is about 3 times smaller. On a smooth surface its bias is second
+  // order in the neighbourhood's size; at an edge (a hoe blade's bottom corner) it is first order and
+  // draws the choice up the front by about a neighbourhood's radius.
   double best = -std::numeric_limits<double>::infinity();
   for (auto i : p.tied) {
     double t = points[i].norm();
