@@ -24,6 +24,15 @@ namespace {
 
 constexpr int kGraspsPerFamily = 24;
 
+// A family's tool held with the seed's grasp and evaluated as evaluate-models does (6 cm hand cut,
+// sigma 1.5 mm); the noise's seed is the grasp's index.
+std::pair<toolinc::testing::HeldToolCase, HeldToolErrors> evaluate_grasp(ToolFamily family, std::uint32_t seed, int g) {
+  auto held = make_held_tool(family, seed);
+  Rng noise(static_cast<std::uint32_t>(g));
+  const HeldToolErrors e = evaluate_held_tool(held.model.points, symmetry_of(family), held.grasp, 0.06, 0.0015, noise);
+  return {std::move(held), e};
+}
+
 struct FamilyStats {
   int cases = 0, tips_within_10mm = 0;
   double worst_handle_deg = 0.0, worst_tip = 0.0;
@@ -36,10 +45,8 @@ TEST(ToolFrameAccuracy, EveryFamilyManyGrasps) {
   int cases = 0, within_10mm = 0;
   for (ToolFamily family : all_families()) {
     for (int g = 0; g < kGraspsPerFamily; ++g) {
-      const auto held = make_held_tool(family, 1000u + static_cast<std::uint32_t>(g));
       SCOPED_TRACE(to_string(family) + " grasp " + std::to_string(g));
-      Rng noise(static_cast<std::uint32_t>(g));
-      const HeldToolErrors e = evaluate_held_tool(held.model.points, symmetry_of(family), held.grasp, 0.06, 0.0015, noise);
+      const auto [held, e] = evaluate_grasp(family, 1000u + static_cast<std::uint32_t>(g), g);
       ASSERT_TRUE(e.failure.empty()) << e.failure;
       EXPECT_TRUE(e.right_handed);
       EXPECT_LE(e.handle_axis_deg, 3.0);
@@ -67,10 +74,8 @@ TEST(ToolFrameAccuracy, RealShapesManyGrasps) {
   int cases = 0, within_10mm = 0, handle_within_3deg = 0, blade_planes_right = 0, blades = 0;
   for (ToolFamily family : real_shape_families()) {
     for (int g = 0; g < kGraspsPerFamily; ++g) {
-      const auto held = make_held_tool(family, 2000u + static_cast<std::uint32_t>(g));
       SCOPED_TRACE(to_string(family) + " grasp " + std::to_string(g));
-      Rng noise(static_cast<std::uint32_t>(g));
-      const HeldToolErrors e = evaluate_held_tool(held.model.points, symmetry_of(family), held.grasp, 0.06, 0.0015, noise);
+      const auto [held, e] = evaluate_grasp(family, 2000u + static_cast<std::uint32_t>(g), g);
       ASSERT_TRUE(e.failure.empty()) << e.failure;
       EXPECT_TRUE(e.right_handed);
       within_10mm += e.tooltip_m <= 0.010;

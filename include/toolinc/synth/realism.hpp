@@ -1,6 +1,6 @@
 // How realistic simulated sessions are: the distance profile of the robot's own reconstruction of a real
 // tool to that tool's model, against the profile of the merged models of simulated sessions of the same
-// model (issue 16's calibration; ../shared/real-tools holds such pairs).
+// model (the realistic-stereo calibration: a folder of the lab's real tools holds such pairs).
 #pragma once
 
 #include <cstdint>
