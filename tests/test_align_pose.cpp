@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -81,14 +83,17 @@ TEST(AlignPose, LongPlainStickNeitherFlipsNorSlides) {
     const PartialViewCase c = make_model_partial_view_case(generate_tool(shape, seed + 1), ToolSymmetry::axial, seed);
     const PoseResult result = align_pose(PoseModel(c.model.points), c.view);
     const PoseErrors e = pose_errors(c, result.best.hand_from_model);
-    const bool right = e.within(3.0, 0.005, 0.010);
+    // Right as the real-tools issue counts it: the pose within 3 degrees and 5 mm, or the tooltip within
+    // 10 mm; and never the slide of the bug (24-33 cm), nor more than a handle's width.
+    const bool right = e.within(3.0, 0.005, std::numeric_limits<double>::infinity()) || e.tooltip_m <= 0.010;
     pinned += right;
+    EXPECT_LT(e.translation_m, 0.02) << "seed " << seed;
     EXPECT_TRUE(result.feasibility.feasible) << "seed " << seed << ": " << result.feasibility.reason;
     if (!right)
       std::printf("  stick %u: handle %.2f deg, slid %.1f mm, tooltip %.1f mm\n", seed, e.rotation_deg,
                   1000 * e.translation_m, 1000 * e.tooltip_m);
   }
-  std::printf("long plain stick: %d/%d within 3 deg, 5 mm, tooltip 10 mm\n", pinned, cases);
+  std::printf("long plain stick: %d/%d within 3 deg and 5 mm, or tooltip 10 mm\n", pinned, cases);
   EXPECT_EQ(pinned, cases);
 }
 

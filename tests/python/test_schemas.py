@@ -53,7 +53,7 @@ def test_generated_truth_and_pose(tool, tmp_path):
 def test_merge_report_and_session_evaluation(tool, tmp_path):
     report, evaluation = tmp_path / "report.json", tmp_path / "sessions.json"
     session, views = tmp_path / "session", tmp_path / "views"
-    assert tool("simulate-session", "--family", "rake", "--seed", 2, "--gross-error", "1:0:30", "-o", session,
+    assert tool("simulate-session", "--family", "rake", "--seed", 2, "--gross-error", "1:0:60", "-o", session,
                 "-q").returncode == 0
     check("tool_ground_truth", session / "ground_truth.json")
     check("session", session / "session.json")
