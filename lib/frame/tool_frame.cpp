@@ -145,10 +145,6 @@ std::vector<std::size_t> basin_minima(const std::vector<SymmetryCandidate>& swee
   return minima;
 }
 
-struct Reach {
-  double positive, negative;  // m, along +X and -X from the handle axis
-};
-
 // Seen along the handle, the head of a bar-like tool (L, T, hook) lies along a line, and the symmetry
 // plane contains it. The line of the head's points when they spread along it at least head-line-elongation
 // times more (variance) than across it; nothing for plates and combs (hoe, rake, flat top), nor when
@@ -194,20 +190,6 @@ std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint
                                      config.handle_residual_scale);
   if (y_axis.cross(axis.axis).norm() < 0.5) return std::nullopt;  // within 30 degrees of the handle
   return axis;
-}
-
-// How far the effector reaches on each side of the handle axis along x_axis, measured robustly on the
-// effector side of the handle plane.
-Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
-                     const Vec3& x_axis, double q) {
-  std::vector<double> forward, backward;
-  for (const auto& p : cloud) {
-    if ((p - centre).dot(y_axis) >= 0) continue;
-    const double x = (p - handle_point).dot(x_axis);
-    forward.push_back(x);
-    backward.push_back(-x);
-  }
-  return {quantile(forward, q), quantile(backward, q)};
 }
 
 // A blade: a head that is a plate containing the handle's direction (shovel, spatula). Its points'
@@ -262,6 +244,18 @@ double golden_minimum(F&& f, double lo, double hi, int iterations) {
 }
 
 }  // namespace
+
+Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
+                     const Vec3& x_axis, double q) {
+  std::vector<double> forward, backward;
+  for (const auto& p : cloud) {
+    if ((p - centre).dot(y_axis) >= 0) continue;
+    const double x = (p - handle_point).dot(x_axis);
+    forward.push_back(x);
+    backward.push_back(-x);
+  }
+  return {quantile(forward, q), quantile(backward, q)};
+}
 
 Eigen::Matrix4d ToolFrame::hand_from_tool() const {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();

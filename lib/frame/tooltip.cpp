@@ -6,13 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
-#include <stdexcept>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/scatter.hpp"
-#include "toolinc/core/statistics.hpp"
 
 namespace toolinc {
 
@@ -101,10 +98,8 @@ ToolFrame with_symmetry_plane(const Points& points, const ToolFrame& frame, cons
   ToolFrame other = frame;
   const Vec3 y = frame.handle_axis();
   Vec3 x = y.cross(normal).normalized();
-  std::vector<double> forward, backward;
-  for (const auto& p : points)
-    if ((p - frame.origin).dot(y) < 0) forward.push_back((p - frame.origin).dot(x)), backward.push_back(-forward.back());
-  if (!forward.empty() && quantile(backward, 0.99) > quantile(forward, 0.99)) x = -x;
+  const Reach reach = effector_reach(points, frame.origin, frame.origin, y, x, ToolFrameConfig{}.salience_quantile);
+  if (reach.negative > reach.positive) x = -x;
   other.axes.col(0) = x;
   other.axes.col(2) = x.cross(y);
   return other;

@@ -95,6 +95,15 @@ struct ToolFrame {
   Vec3 symmetry_axis() const { return axes.col(2); }
 };
 
+// How far the effector reaches on each side of the handle axis along x_axis: the q-quantile of the
+// effector-side points' (beyond centre along -y_axis) distances from handle_point along +x_axis and
+// along -x_axis. The effector axis points to the side that reaches farther.
+struct Reach {
+  double positive, negative;  // m, along +X and -X from the handle axis
+};
+Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
+                     const Vec3& x_axis, double q);
+
 // points: the tool in the hand frame (the hand at the origin). viewpoints (optional): where the sensors
 // saw it from (hand frame), so that parts never seen do not count against a symmetry plane. Throws
 // MethodError with the reason on degenerate input (too few points, collinear, planar, everything inside
