@@ -1,24 +1,13 @@
 #include "toolinc/frame/cylinder_fit.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace toolinc {
 namespace {
-
-// Parameters relative to a reference axis: [tilt_u, tilt_v, shift_u, shift_v, radius].
-using Params = Eigen::Matrix<double, 5, 1>;
-
-struct Basis {
-  Vec3 point, axis, u, v;
-  Cylinder at(const Params& x) const {
-    Cylinder c;
-    c.axis = (axis + x[0] * u + x[1] * v).normalized();
-    c.point = point + x[2] * u + x[3] * v;
-    c.radius = x[4];
-    return c;
-  }
-};
 
 double huber_weight(double r, double scale) { return std::abs(r) <= scale ? 1.0 : scale / std::abs(r); }
 
@@ -29,57 +18,74 @@ double radial_distance(const Cylinder& c, const Vec3& p) {
   return (d - d.dot(c.axis) * c.axis).norm();
 }
 
-Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale, int iterations) {
+Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale, int iterations,
+                      double section_length) {
   if (points.size() < 6) return initial;
   initial.axis.normalize();
   if (initial.radius <= 0.0) {
     for (const auto& p : points) initial.radius += radial_distance(initial, p);
     initial.radius /= static_cast<double>(points.size());
   }
+  // Each point's section along the initial axis; sections keep their points while the axis moves by
+  // the few degrees a refinement does.
+  std::vector<int> section(points.size(), 0);
+  int sections = 1;
+  if (section_length > 0.0) {
+    double lo = std::numeric_limits<double>::infinity();
+    for (const auto& p : points) lo = std::min(lo, (p - initial.point).dot(initial.axis));
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      section[i] = static_cast<int>(((points[i] - initial.point).dot(initial.axis) - lo) / section_length);
+      sections = std::max(sections, section[i] + 1);
+    }
+  }
+  const int n = 4 + sections;  // [tilt_u, tilt_v, shift_u, shift_v, radius of each section]
   Cylinder best = initial;
+  Eigen::VectorXd radii = Eigen::VectorXd::Constant(sections, initial.radius);
+  const auto cost = [&](const Cylinder& c, const Eigen::VectorXd& r) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double e = radial_distance(c, points[i]) - r[section[i]];
+      sum += std::abs(e) <= huber_scale ? 0.5 * e * e : huber_scale * (std::abs(e) - 0.5 * huber_scale);
+    }
+    return sum;
+  };
   double lambda = 1e-3;
   for (int iteration = 0; iteration < iterations; ++iteration) {
     // Re-centre the parametrisation on the current estimate so the linearisation stays small.
-    Basis basis{best.point, best.axis, Vec3::Zero(), Vec3::Zero()};
-    basis.u = best.axis.unitOrthogonal();
-    basis.v = best.axis.cross(basis.u);
-    Params x = Params::Zero();
-    x[4] = best.radius;
-    const auto cost = [&](const Cylinder& c) {
-      double sum = 0.0;
-      for (const auto& p : points) {
-        const double r = radial_distance(c, p) - c.radius;
-        sum += std::abs(r) <= huber_scale ? 0.5 * r * r : huber_scale * (std::abs(r) - 0.5 * huber_scale);
-      }
-      return sum;
-    };
-    Eigen::Matrix<double, 5, 5> H = Eigen::Matrix<double, 5, 5>::Zero();
-    Params g = Params::Zero();
-    for (const auto& p : points) {
-      const Vec3 d = p - basis.point;
-      const Vec3 radial = d - d.dot(basis.axis) * basis.axis;
+    const Vec3 u = best.axis.unitOrthogonal(), v = best.axis.cross(u);
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    Eigen::VectorXd J(n);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 d = points[i] - best.point;
+      const Vec3 radial = d - d.dot(best.axis) * best.axis;
       const double rho = radial.norm();
       if (rho < 1e-12) continue;
-      const Vec3 n = radial / rho;  // unit radial direction
-      const double along = d.dot(basis.axis);
+      const Vec3 unit = radial / rho;
+      const double along = d.dot(best.axis);
       // d(rho)/d(tilt) = -along * n.u (tilting the axis towards u moves the foot of p along u),
-      // d(rho)/d(shift) = -n.u, d(residual)/d(radius) = -1.
-      Params J;
-      J << -along * n.dot(basis.u), -along * n.dot(basis.v), -n.dot(basis.u), -n.dot(basis.v), -1.0;
-      const double r = rho - x[4];
+      // d(rho)/d(shift) = -n.u, d(residual)/d(own section's radius) = -1.
+      J.setZero();
+      J[0] = -along * unit.dot(u), J[1] = -along * unit.dot(v), J[2] = -unit.dot(u), J[3] = -unit.dot(v);
+      J[4 + section[i]] = -1.0;
+      const double r = rho - radii[section[i]];
       const double w = huber_weight(r, huber_scale);
       H.noalias() += w * J * J.transpose();
       g.noalias() += w * J * r;
     }
-    const double current = cost(best);
+    const double current = cost(best, radii);
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
-      Eigen::Matrix<double, 5, 5> damped = H;
+      Eigen::MatrixXd damped = H;
       damped.diagonal() *= 1.0 + lambda;
-      const Params step = damped.ldlt().solve(-g);
-      const Cylinder candidate = basis.at(x + step);
-      if (candidate.radius > 0 && cost(candidate) < current) {
-        best = candidate;
+      damped.diagonal().array() += 1e-12;  // a section without points keeps its radius
+      const Eigen::VectorXd step = damped.ldlt().solve(-g);
+      Cylinder candidate;
+      candidate.axis = (best.axis + step[0] * u + step[1] * v).normalized();
+      candidate.point = best.point + step[2] * u + step[3] * v;
+      const Eigen::VectorXd next = radii + step.tail(sections);
+      if (next.minCoeff() > 0 && cost(candidate, next) < current) {
+        best.axis = candidate.axis, best.point = candidate.point, radii = next;
         lambda = std::max(lambda / 10.0, 1e-7);
         improved = true;
         if (step.head<4>().norm() < 1e-9) iteration = iterations;  // converged
@@ -89,8 +95,15 @@ Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale
     }
     if (!improved) break;
   }
+  // The reported radius is the one most points have.
+  std::vector<double> own(points.size());
   double sum = 0.0;
-  for (const auto& p : points) sum += std::pow(radial_distance(best, p) - best.radius, 2);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    own[i] = radii[section[i]];
+    sum += std::pow(radial_distance(best, points[i]) - own[i], 2);
+  }
+  std::nth_element(own.begin(), own.begin() + own.size() / 2, own.end());
+  best.radius = own[own.size() / 2];
   best.rms = std::sqrt(sum / static_cast<double>(points.size()));
   return best;
 }

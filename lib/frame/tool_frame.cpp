@@ -59,20 +59,32 @@ struct HandleFit {
   bool cylinder = true;  // false: the handle's points did not form a surface, their principal axis is used
 };
 
+// The part of the tool the hand holds: the points nearer the hand (the origin) than halfway between
+// the tool's nearest and farthest points. A heavy head (most of a reconstruction's points) tilts the
+// whole tool's principal axis towards it, but not this part's.
+Points near_half(const Points& cloud) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (const auto& p : cloud) lo = std::min(lo, p.norm()), hi = std::max(hi, p.norm());
+  Points near;
+  for (const auto& p : cloud)
+    if (p.norm() <= 0.5 * (lo + hi)) near.push_back(p);
+  return near;
+}
+
 // The major axis is tilted by a heavy head (7-26 degrees on hooks and L-shapes in the original), so
 // the handle axis is refitted from the handle's own points: those in the hand-side part of the tool's
 // length, less the hand_skip share at the hand end, that lie on the current handle cylinder. A
 // cylinder fit, unlike a principal axis, is not tilted by the slanted cut the hand sphere leaves or by
 // uneven coverage of the handle.
-HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const ToolFrameConfig& config,
+HandleFit fit_handle(const Points& cloud, const PrincipalAxes& start, const ToolFrameConfig& config,
                      double hand_skip) {
   Cylinder handle;
-  handle.axis = principal.axes.col(0);
-  handle.point = principal.centroid;
-  if (handle.axis.dot(-principal.centroid) < 0) handle.axis = -handle.axis;
+  handle.axis = start.axes.col(0);
+  handle.point = start.centroid;
+  if (handle.axis.dot(-handle.point) < 0) handle.axis = -handle.axis;
   HandleFit fit{handle.axis, handle.point, 0, 0.0, 0.0, true};
   std::vector<double> along(cloud.size()), radial;
-  Points slab;
+  Points slab, fitted;
   for (int iteration = 0; iteration < config.handle_iterations; ++iteration) {
     for (std::size_t i = 0; i < cloud.size(); ++i) along[i] = (cloud[i] - handle.point).dot(handle.axis);
     const double hand_end = quantile(along, 0.99), far_end = quantile(along, 0.01);
@@ -113,9 +125,69 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& principal, const 
     const double change = std::acos(std::clamp(refit.axis.dot(handle.axis), -1.0, 1.0));
     handle = refit;
     fit = {handle.axis, handle.point, static_cast<int>(on_handle.size()), handle.radius, handle.rms, surface};
+    fitted = on_handle;
     if (change < 1e-5) break;
   }
+  // Coaxial parts of different widths (a grip, then a thinner shaft) tilt a one-radius cylinder fitted
+  // across both: the converged fit is refined once more with a radius per section. Only once, from
+  // the converged fit, since the sections' freedom could lead a fit from a poor start astray.
+  if (fit.cylinder) {
+    Cylinder refit = fit_cylinder(fitted, {handle.point, handle.axis, handle.radius, 0.0}, config.handle_residual_scale,
+                                  15, config.handle_section_length);
+    if (refit.axis.dot(handle.axis) < 0) refit.axis = -refit.axis;
+    fit = {refit.axis, refit.point, static_cast<int>(fitted.size()), refit.radius, refit.rms, true};
+  }
   return fit;
+}
+
+// How far the effector side (beyond centre, away from the hand at the origin) stands out from the
+// line through centre along axis: the q-quantile of its points' distances from it.
+double effector_extent(const Points& cloud, const Vec3& centre, const Vec3& axis, double q) {
+  const Vec3 towards_hand = axis.dot(-centre) < 0 ? Vec3(-axis) : axis;
+  const Cylinder line{centre, towards_hand, 0.0, 0.0};
+  std::vector<double> radial;
+  for (const auto& p : cloud)
+    if ((p - centre).dot(towards_hand) < 0) radial.push_back(radial_distance(line, p));
+  return radial.empty() ? 0.0 : quantile(radial, q);
+}
+
+// A stick's handle: its principal line, signed towards the hand, the radius its points' median distance.
+HandleFit stick_line(const Points& cloud, const PrincipalAxes& principal) {
+  HandleFit fit;
+  fit.axis = principal.axes.col(0).dot(-principal.centroid) < 0 ? Vec3(-principal.axes.col(0)) : Vec3(principal.axes.col(0));
+  fit.point = principal.centroid;
+  const Cylinder line{fit.point, fit.axis, 0.0, 0.0};
+  std::vector<double> radial;
+  for (const auto& p : cloud) radial.push_back(radial_distance(line, p));
+  fit.radius = median(radial);
+  double sum = 0.0;
+  for (const double r : radial) sum += (r - fit.radius) * (r - fit.radius);
+  fit.rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(radial.size(), 1)));
+  fit.points = static_cast<int>(cloud.size());
+  fit.cylinder = false;
+  return fit;
+}
+
+// How far the head's edges rise along x_axis above its middle: the quadratic x = a + b z + c z^2
+// fitted to the head's points (z along z_axis from the plane through plane_point), c times the
+// square of the head's half width (its points' 90th percentile |z|). Positive when the head is
+// concave towards +x.
+double head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& plane_point,
+                 const Vec3& x_axis, const Vec3& z_axis) {
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d right = Eigen::Vector3d::Zero();
+  std::vector<double> width;
+  for (auto i : head) {
+    const Vec3 d = cloud[i] - plane_point;
+    const double z = d.dot(z_axis);
+    const Eigen::Vector3d basis(1.0, z, z * z);
+    normal += basis * basis.transpose();
+    right += basis * d.dot(x_axis);
+    width.push_back(std::abs(z));
+  }
+  const Eigen::Vector3d coefficients = normal.ldlt().solve(right);
+  const double half_width = quantile(width, 0.9);
+  return coefficients(2) * half_width * half_width;
 }
 
 // The candidate planes of a sweep over half a turn: the lowest angle of each basin, a maximal
@@ -192,14 +264,19 @@ std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint
   return axis;
 }
 
+// The head's principal spreads (ascending) and its thinnest direction, the last column.
+Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud, const std::vector<std::uint32_t>& head) {
+  const auto spread = scatter_of<3>(head.size(), [&](std::size_t j) { return cloud[head[j]]; });
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread.scatter);
+}
+
 // A blade: a head that is a plate containing the handle's direction (shovel, spatula). Its points'
 // smallest principal spread is below blade-flatness times the middle one, and the plate's normal lies
 // within 30 degrees of perpendicular to the handle. The plate's normal, or nothing.
 std::optional<Vec3> blade_normal(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& y_axis,
                                  const ToolFrameConfig& config) {
   if (static_cast<int>(head.size()) < config.min_head_points) return std::nullopt;
-  const auto spread = scatter_of<3>(head.size(), [&](std::size_t j) { return cloud[head[j]]; });
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(spread.scatter);  // ascending
+  const auto solver = head_spread(cloud, head);
   const Eigen::Vector3d& eigenvalues = solver.eigenvalues();
   const Vec3 normal = solver.eigenvectors().col(0);
   if (eigenvalues(0) > config.blade_flatness * config.blade_flatness * eigenvalues(1)) return std::nullopt;
@@ -281,11 +358,27 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.principal = principal.axes;
   frame.eigenvalues = principal.eigenvalues;
 
-  // Handle axis (Y), signed towards the hand at the origin.
-  HandleFit handle = fit_handle(cloud, principal, config, config.handle_hand_skip);
-  // On a short handle the slab, once the hand end is skipped, reaches into the head and is no
-  // cylinder: then the whole slab, hand end included, is the handle's.
-  if (!handle.cylinder && config.handle_hand_skip > 0) handle = fit_handle(cloud, principal, config, 0.0);
+  // Handle axis (Y), signed towards the hand at the origin. A stick (its effector side all within
+  // stick-width of its principal line) is its own handle: its line is the principal axis, which a
+  // bent or wavy stick's local cylinder would tilt. Any other tool's major axis is tilted by its head,
+  // so its handle is fitted.
+  HandleFit handle;
+  if (effector_extent(cloud, principal.centroid, principal.axes.col(0), config.salience_quantile) < config.stick_width) {
+    handle = stick_line(cloud, principal);
+  } else {
+    const auto fit_from = [&](const PrincipalAxes& start) {
+      HandleFit fit = fit_handle(cloud, start, config, config.handle_hand_skip);
+      // On a short handle the slab, once the hand end is skipped, reaches into the head and is no
+      // cylinder: then the whole slab, hand end included, is the handle's.
+      if (!fit.cylinder && config.handle_hand_skip > 0) fit = fit_handle(cloud, start, config, 0.0);
+      return fit;
+    };
+    // Started from the whole tool's major axis and from that of the part the hand holds (which a
+    // heavy head does not tilt); the handle is the thinner fit, preferring a cylinder surface.
+    handle = fit_from(principal);
+    const HandleFit held = fit_from(principal_axes(near_half(cloud)));
+    if (std::pair{!held.cylinder, held.radius} < std::pair{!handle.cylinder, handle.radius}) handle = held;
+  }
   const Vec3 y_axis = handle.axis.normalized();
   frame.handle_point = handle.point;
   frame.handle_points = handle.points;
@@ -312,10 +405,15 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // pulls the plane towards the cameras. A stick has no head: all its points are mirrored.
   const Cylinder handle_line{centre, y_axis, 0.0, 0.0};
   std::vector<std::uint32_t> head;
-  for (std::uint32_t i = 0; i < cloud.size(); ++i)
-    if ((cloud[i] - principal.centroid).dot(y_axis) < 0 &&
-        radial_distance(handle_line, cloud[i]) >= config.head_radius_factor * handle.radius)
-      head.push_back(i);
+  std::vector<double> effector_radial;
+  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+    if ((cloud[i] - principal.centroid).dot(y_axis) >= 0) continue;
+    effector_radial.push_back(radial_distance(handle_line, cloud[i]));
+    if (effector_radial.back() >= config.head_radius_factor * handle.radius) head.push_back(i);
+  }
+  // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
+  frame.head_extent = effector_radial.empty() ? 0.0 : quantile(effector_radial, config.salience_quantile);
+  frame.stick = frame.head_extent < config.stick_width;
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                               config.symmetry_tolerance, config.symmetry_match_weight,
                               viewpoints.empty() ? nullptr : &free_space, &normals,
@@ -392,6 +490,22 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.effector_sign_rule = frame.salient_effector
                                  ? "salient side: the effector reaches farther along +X than along -X"
                                  : "no salient effector: +X is the marginally longer reach, sign arbitrary";
+  // A head that is thinnest along the effector axis (a blade or a scoop facing +-X) works with its
+  // concave side: when its edges curl to one side, that side is the effector's, whichever reaches
+  // farther (a scoop's belly bulges backwards).
+  if (static_cast<int>(head.size()) >= config.min_head_points &&
+      std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg)) {
+    frame.head_curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
+    if (std::abs(frame.head_curl) >= config.head_curl_min) {
+      if (frame.head_curl < 0) {
+        x_axis = -x_axis;
+        std::swap(frame.effector_reach_positive, frame.effector_reach_negative);
+        frame.head_curl = -frame.head_curl;
+      }
+      frame.effector_sign_rule = "the head is a blade or scoop facing +-X whose edges curl towards +X: it works "
+                                 "with its concave side";
+    }
+  }
 
   frame.axes.col(0) = x_axis;
   frame.axes.col(1) = y_axis;

@@ -44,7 +44,10 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
     return tree.count_within(points[i], config.density_radius, needed) >= needed;
   };
   const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(frame.effector_axis()); };
+  // A stick's effector axis is arbitrary (nothing stands out from its handle), so "in front" means
+  // nothing there: its tip is its far end, along the handle away from the hand.
   const auto primary = [&](std::uint32_t i) {
+    if (frame.stick) return -(points[i] - frame.origin).dot(frame.handle_axis());
     return config.rule == TooltipRule::furthest
                ? front(i)
                : config.effector_weight * front(i) + (1.0 - config.effector_weight) * points[i].norm();
@@ -71,10 +74,15 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
   // times that noise; the mean's noise is about 3 times smaller. On a smooth surface its bias is second
   // order in the neighbourhood's size; at an edge (a hoe blade's bottom corner) it is first order and
   // draws the choice up the front by about a neighbourhood's radius.
+  // A stick's: the middle of its far end, the tied point nearest their centroid.
+  Vec3 end_centre = Vec3::Zero();
+  for (auto i : p.tied) end_centre += points[i] / static_cast<double>(p.tied.size());
   double best = -std::numeric_limits<double>::infinity();
   for (auto i : p.tied) {
     double t = points[i].norm();
-    if (config.rule == TooltipRule::weighted) {
+    if (frame.stick) {
+      t = -(points[i] - end_centre).norm();
+    } else if (config.rule == TooltipRule::weighted) {
       double sum = 0.0;
       const auto near = tree.knn(points[i], config.smoothing_neighbors);
       for (const auto& n : near) sum += front(n.index);
@@ -136,7 +144,7 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   // under the measured noise. The tie-break's sigma: the noise itself for the distance from the hand;
   // w times the noise over the square root of the neighbourhood for the averaged distance in front.
   tip.noise_m = local_noise(tree, points[p.chosen], config.smoothing_neighbors);
-  const double sigma = config.rule == TooltipRule::furthest
+  const double sigma = config.rule == TooltipRule::furthest || frame.stick
                            ? tip.noise_m
                            : config.effector_weight * tip.noise_m / std::sqrt(std::max(1, config.smoothing_neighbors));
   const double best = *std::max_element(p.tie_breaks.begin(), p.tie_breaks.end());

@@ -54,6 +54,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"effector_sign_rule", frame.effector_sign_rule},
         {"effector_reach", {{"positive", frame.effector_reach_positive}, {"negative", frame.effector_reach_negative}}},
         {"salient_effector", frame.salient_effector},
+        {"head_extent_m", frame.head_extent},
+        {"stick", frame.stick},
         {"config", {{"hand_radius", config.hand_radius}, {"voxel_size", config.voxel_size},
                     {"symmetry_tolerance", config.symmetry_tolerance}, {"handle_fraction", config.handle_fraction},
                     {"handle_hand_skip", config.handle_hand_skip}}}}},
@@ -80,6 +82,7 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   // find-tooltip can say what they give.
   const Json none;
   const Json& diagnostics = json.contains("diagnostics") && json["diagnostics"].is_object() ? json["diagnostics"] : none;
+  if (diagnostics.contains("stick") && diagnostics["stick"].is_boolean()) frame.stick = diagnostics["stick"].get<bool>();
   if (diagnostics.contains("symmetry_plane_rule") && diagnostics["symmetry_plane_rule"].is_string())
     frame.symmetry_plane_rule = diagnostics["symmetry_plane_rule"].get<std::string>();
   const Json* tied = nullptr;
@@ -190,7 +193,11 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
       {"tooltip_uncertainty_m", tooltip.uncertainty_m},
       {"ambiguous", tooltip.ambiguous},
       {"chosen_because",
-       std::string(config.rule == TooltipRule::weighted
+       std::string(frame.stick
+                       ? "a stick (nothing on the effector side stands out from the handle's axis by stick-width), "
+                         "whose effector axis is arbitrary: the middle of its far end, the points tied within "
+                         "tie-tolerance of the farthest along the handle"
+                   : config.rule == TooltipRule::weighted
                        ? "best 0.8 x (in front of the effector plane) + 0.2 x (distance from the hand), the "
                          "distance in front averaged over the point's neighbours, among the points tied within "
                          "tie-tolerance"

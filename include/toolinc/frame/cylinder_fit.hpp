@@ -16,8 +16,11 @@ struct Cylinder {
 
 // Levenberg-Marquardt on the radial residuals |(p - point) x axis| - radius, with Huber weights (scale
 // huber_scale, m) so a few non-cylinder points do not pull the axis. Starts from `initial`, whose
-// radius may be 0 (then the mean radial distance is used).
-Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale, int iterations = 15);
+// radius may be 0 (then the mean radial distance is used). section_length > 0: coaxial sections of this
+// length along the initial axis each have their own radius (a grip, then a thinner shaft), and the
+// radius returned is the one most points have.
+Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale, int iterations = 15,
+                      double section_length = 0.0);
 
 // Radial distance of p from the cylinder's axis line.
 double radial_distance(const Cylinder& cylinder, const Vec3& p);

@@ -31,6 +31,8 @@ struct ToolFrameConfig {
                                     //    means a filled model (about 25%; a noisy surface has < 1%): its
                                     //    principal axis is used instead of the cylinder's
   double handle_max_radius = 0.03;  // m: a fitted handle cylinder wider than this is not trusted
+  double handle_section_length = 0.02; // m: the handle's radius is fitted per section of this length, so
+                                    //    a grip and a thinner shaft on the same axis do not tilt it
   double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;       // points mirrored per score
@@ -50,6 +52,12 @@ struct ToolFrameConfig {
                                     //    grow like the depth) from a corner (like its square); deeper than the
                                     //    noise lifts the foremost point (~3 sigma)
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
+  double stick_width = 0.02;        // m: a tool whose effector side stays this close to the handle's
+                                    //    axis has no head (a stick, however bent): its effector axis is
+                                    //    arbitrary. Heads stand out 2.5 cm (a flat shovel) to 13 cm.
+  double head_curl_min = 0.005;     // m: a head thinnest along the effector axis (blade, scoop) whose
+                                    //    edges rise this much above its middle faces its concave side
+                                    //    (about 3 sigma of the stereo noise)
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
   double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
   double salience_min = 0.01;       // ... this ratio and this many metres
@@ -87,6 +95,11 @@ struct ToolFrame {
   double effector_reach_negative = 0.0;   // m, along -X
   bool salient_effector = false;
   bool head_is_blade = false;             // the head is a plate along the handle (see blade_flatness)
+  double head_extent = 0.0;               // m: how far the effector side stands out from the handle's axis
+                                          // (salience-quantile of its points' distances)
+  bool stick = false;                     // head_extent below stick-width: no head
+  double head_curl = 0.0;                 // m: how far the head's edges rise along +X above its middle,
+                                          // measured when the head is thinnest along X
   int points_input = 0, points_outside_hand = 0, points_used = 0;
 
   Eigen::Matrix4d hand_from_tool() const;
