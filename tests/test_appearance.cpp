@@ -744,6 +744,11 @@ TEST(AppearanceCli, TrainThenClassifySessionImageAndFeatures) {
   const auto file = (dir / "result.json").string();
   ASSERT_EQ(run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " -o " + file).exit_code, 0);
   EXPECT_EQ(slurp(file), run.out);
+  // A session nearer no training session of its answer than --max-distance is a tool never seen.
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " --max-distance 0 -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Json::parse(run.out)["label"], kUnknownLabel);
+  EXPECT_EQ(Json::parse(run.out)["max_distance"], 0.0);
 
   // One view, then the same crop as an image and a box (the view's blob box: the crop adds the margin;
   // the blob is then estimated from the crop, not read from blob.png).
