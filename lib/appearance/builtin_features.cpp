@@ -201,7 +201,8 @@ std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
   Eigen::Index at = 0;
   for (const auto& [name, size] : std::vector<std::pair<std::string, Eigen::Index>>{
            {"mask_hog", hog}, {"head_mask_hog", hog}, {"grey_hog", hog}, {"head_grey_hog", hog},
-           {"silhouette", c.radial_bins + 7}, {"depth", depth_shape_dimension(c.depth)}, {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
+           {"silhouette", c.radial_bins + 7}, {"depth", depth_shape_dimension(c.depth)},
+           {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
     blocks.push_back({name, at, size}), at += size;
   return blocks;
 }
@@ -294,8 +295,10 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
   c.orientation_bins = positive_int(json["hog"], "orientation_bins", file);
   c.radial_bins = positive_int(json["silhouette"], "radial_bins", file);
   const Json& depth = json["depth"];
-  for (const auto& [key, value] : {std::pair<const char*, int*>{"head_bins", &c.depth.head_bins}, {"radial_bins", &c.depth.radial_bins},
-                                   {"footprint_bins", &c.depth.footprint_bins}, {"footprint_depth_bins", &c.depth.footprint_depth_bins}})
+  for (const auto& [key, value] : {std::pair<const char*, int*>{"head_bins", &c.depth.head_bins},
+                                   {"radial_bins", &c.depth.radial_bins},
+                                   {"footprint_bins", &c.depth.footprint_bins},
+                                   {"footprint_depth_bins", &c.depth.footprint_depth_bins}})
     *value = positive_int(depth, key, file);
   for (const auto& [key, value] : {std::pair<const char*, double*>{"hand_margin_m", &c.depth.hand_margin},
                                    {"handle_near_m", &c.depth.handle_near}, {"handle_far_m", &c.depth.handle_far},
@@ -305,9 +308,11 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
     if (!number.is_number()) throw InputError(file, fmt::format("extractor: depth \"{}\" must be a number", key));
     *value = number.get<double>();
   }
-  for (const auto& [key, value] : {std::pair<const char*, Eigen::Vector3d*>{"hand_min_m", &c.depth.hand_min}, {"hand_max_m", &c.depth.hand_max}}) {
+  for (const auto& [key, value] : {std::pair<const char*, Eigen::Vector3d*>{"hand_min_m", &c.depth.hand_min},
+                                   {"hand_max_m", &c.depth.hand_max}}) {
     const Json& corner = depth.value(key, Json());
-    if (!corner.is_array() || corner.size() != 3 || !std::all_of(corner.begin(), corner.end(), [](const Json& v) { return v.is_number(); }))
+    const auto number = [](const Json& v) { return v.is_number(); };
+    if (!corner.is_array() || corner.size() != 3 || !std::all_of(corner.begin(), corner.end(), number))
       throw InputError(file, fmt::format("extractor: depth \"{}\" must be 3 numbers", key));
     *value = {corner[0].get<double>(), corner[1].get<double>(), corner[2].get<double>()};
   }

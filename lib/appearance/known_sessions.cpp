@@ -3,6 +3,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 
@@ -48,25 +49,32 @@ Json to_json(const KnownSessions& known) {
   Json sessions = Json::array();
   for (Eigen::Index s = 0; s < known.means.rows(); ++s) {
     const Eigen::RowVectorXd mean = known.means.row(s);  // a row of a column-major matrix is strided
-    sessions.push_back({{"label", known.labels[static_cast<std::size_t>(s)]}, {"mean", std::vector<double>(mean.data(), mean.data() + mean.size())}});
+    sessions.push_back({{"label", known.labels[static_cast<std::size_t>(s)]},
+                        {"mean", std::vector<double>(mean.data(), mean.data() + mean.size())}});
   }
   return {{"start", known.start}, {"size", known.size}, {"sessions", sessions}};
 }
 
-KnownSessions known_sessions_from_json(const Json& json, std::size_t labels, Eigen::Index dimension, const std::string& file) {
+KnownSessions known_sessions_from_json(const Json& json, std::size_t labels, Eigen::Index dimension,
+                                       const std::string& file) {
   const auto fail = [&](const std::string& what) { return InputError(file, "known_sessions: " + what); };
-  if (!json.is_object() || !json.value("start", Json()).is_number_unsigned() || !json.value("size", Json()).is_number_unsigned() ||
-      !json.value("sessions", Json()).is_array())
+  if (!json.is_object() || !json.value("start", Json()).is_number_unsigned() ||
+      !json.value("size", Json()).is_number_unsigned() || !json.value("sessions", Json()).is_array())
     throw fail("expected \"start\", \"size\" and \"sessions\"");
+  const auto start = json["start"].get<std::uint64_t>(), size = json["size"].get<std::uint64_t>();
+  if (size == 0 || start > static_cast<std::uint64_t>(dimension) || size > static_cast<std::uint64_t>(dimension) - start)
+    throw fail("the columns are not inside the features");
   KnownSessions known;
-  known.start = json["start"].get<Eigen::Index>(), known.size = json["size"].get<Eigen::Index>();
-  if (known.size == 0 || known.start + known.size > dimension) throw fail("the columns are not inside the features");
+  known.start = static_cast<Eigen::Index>(start), known.size = static_cast<Eigen::Index>(size);
   known.means.resize(static_cast<Eigen::Index>(json["sessions"].size()), known.size);
   for (const auto& session : json["sessions"]) {
+    if (!session.is_object()) throw fail("a session must be {\"label\", \"mean\"}");
     const Json& label = session.value("label", Json());
     const Json& mean = session.value("mean", Json());
-    if (!label.is_number_unsigned() || label.get<std::size_t>() >= labels) throw fail("a session's \"label\" is not a label index");
-    if (!mean.is_array() || static_cast<Eigen::Index>(mean.size()) != known.size) throw fail(fmt::format("a session's \"mean\" must hold {} numbers", known.size));
+    if (!label.is_number_unsigned() || label.get<std::size_t>() >= labels)
+      throw fail("a session's \"label\" is not a label index");
+    if (!mean.is_array() || static_cast<Eigen::Index>(mean.size()) != known.size)
+      throw fail(fmt::format("a session's \"mean\" must hold {} numbers", known.size));
     const auto row = static_cast<Eigen::Index>(known.labels.size());
     for (Eigen::Index i = 0; i < known.size; ++i) {
       const Json& value = mean[static_cast<std::size_t>(i)];

@@ -204,11 +204,13 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
   const Json context = {{"classifier", classifier_path}, {"extractor", extractor.name()}, {"input", source}};
   const Eigen::MatrixXd features = stack(rows);
   Json result = classification_json(labels, rls_scores(classifier.model, features), std::move(samples), decision, context);
-  // A whole session whose head lies farther from every training session of its answer than any two
-  // grasps of one training tool lie apart is a tool never seen (known_sessions.hpp).
+  // A whole session whose head lies farther from every training session of its answer than any training
+  // session lies from its nearest sibling is a tool never seen (known_sessions.hpp).
   const auto answer = std::find(labels.begin(), labels.end(), result["label"].get<std::string>());
-  if (classifier.known && !input.session.empty() && !input.view && std::isfinite(decision.max_distance) && answer != labels.end()) {
-    const double distance = distance_to_label(*classifier.known, features, static_cast<std::size_t>(answer - labels.begin()));
+  if (classifier.known && !input.session.empty() && !input.view && std::isfinite(decision.max_distance) &&
+      answer != labels.end()) {
+    const auto label = static_cast<std::size_t>(answer - labels.begin());
+    const double distance = distance_to_label(*classifier.known, features, label);
     result["distance"] = distance;
     result["max_distance"] = decision.max_distance;
     if (distance > decision.max_distance) result["label"] = kUnknownLabel;
