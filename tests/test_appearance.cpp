@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -17,6 +19,7 @@
 #include "run_tool.hpp"
 #include "toolinc/appearance/blob_mask.hpp"
 #include "toolinc/appearance/crops.hpp"
+#include "toolinc/appearance/known_sessions.hpp"
 #include "toolinc/appearance/learn_appearance.hpp"
 #include "toolinc/appearance/onnx_writer.hpp"
 #include "toolinc/appearance/sha256.hpp"
@@ -48,9 +51,21 @@ const std::vector<int> kTrainGrasps = {0, 1, 2}, kTestGrasps = {3, 4};
 enum class Paint { palette, grey, family };
 const char* to_string(Paint paint) { return paint == Paint::palette ? "palette" : paint == Paint::grey ? "grey" : "family"; }
 
+// Which seeds the simulated sessions use: set 0 unless TOOLINC_APPEARANCE_SEED_SET=N names another (each
+// set shifts every seed by 100000), to measure the recognition figures on sessions the assertions were
+// not set by (README; the assertions hold for set 0).
+std::uint32_t seed_set() {
+  static const std::uint32_t set = [] {
+    const char* text = std::getenv("TOOLINC_APPEARANCE_SEED_SET");
+    return text ? static_cast<std::uint32_t>(std::stoul(text)) : 0u;
+  }();
+  return set;
+}
+
 // A simulated session of the family held in its grasp-th random grasp, written once per test run.
 fs::path session(ToolFamily family, int grasp, Paint paint = Paint::family) {
-  static const fs::path root = fs::temp_directory_path() / ("toolinc-appearance-" + std::to_string(::getpid()));
+  static const fs::path root =
+      fs::temp_directory_path() / ("toolinc-appearance-" + std::to_string(::getpid()) + "-" + std::to_string(seed_set()));
   const fs::path dir = root / (to_string(family) + "-" + std::to_string(grasp) + "-" + to_string(paint));
   if (fs::exists(dir)) return dir;
   SessionSimulatorConfig config;
@@ -59,7 +74,7 @@ fs::path session(ToolFamily family, int grasp, Paint paint = Paint::family) {
     config.tool_rgb = tool_palette()[static_cast<std::size_t>(family) % tool_palette().size()];
   config.shape = default_shape(family);
   config.tool_label = to_string(family);
-  config.seed = 1000u * static_cast<std::uint32_t>(family) + static_cast<std::uint32_t>(grasp) + 1u;
+  config.seed = 1000u * static_cast<std::uint32_t>(family) + static_cast<std::uint32_t>(grasp) + 1u + 100000u * seed_set();
   Rng rng(config.seed);
   config.hand_from_canonical = random_grasp({}, rng);
   config.write_points = false;
@@ -196,7 +211,7 @@ TEST(AppearanceBuiltin, UnitNormDeterministicAndColourOnlyInItsBlock) {
   const Eigen::VectorXd a = builtin_features(crops[0].image, crops[0].mask, config, crops[0].points);
   const auto blocks = builtin_blocks(config);
   EXPECT_EQ(static_cast<std::size_t>(a.size()), builtin_dimension(config));
-  EXPECT_EQ(a.size(), 4 * (7 * 7 * 36 + 3 * 3 * 36) + (16 + 7) + (6 + 8) + 16 * 4);
+  EXPECT_EQ(a.size(), 4 * (7 * 7 * 36 + 3 * 3 * 36) + (16 + 7) + (6 + 4 * 6 + 4 * 8 * 4) + 16 * 4);
   EXPECT_NEAR(a.norm(), 1.0, 1e-6);
   for (const auto& b : blocks)
     EXPECT_NEAR(a.segment(b.start, b.size).norm(), (b.name == "depth" ? std::sqrt(5.0) : 1.0) / std::sqrt(11.0), 1e-6) << b.name;
@@ -380,6 +395,37 @@ TEST(AppearanceDecision, UnknownFloorBoundsKnownRejection) {
   EXPECT_EQ(calibrate_decision(x, targets, names, groups, false, model, {}, {}, summary).min_score, DecisionConfig{}.min_score);
 }
 
+// Known sessions: each session's mean of the compared columns, the largest distance to a sibling of the
+// same label, the nearest session of a label, and the classifier file's record of them.
+TEST(AppearanceDecision, KnownSessionsRadiusAndDistance) {
+  // Two labels; label 0 has sessions at 0 and 3 along column 1, label 1 at 10, 11 and 15; two rows each.
+  const std::vector<double> centres = {0, 3, 10, 11, 15};
+  const std::vector<std::size_t> session_label = {0, 0, 1, 1, 1};
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(10, 3);
+  std::vector<std::size_t> targets, groups;
+  for (std::size_t s = 0; s < centres.size(); ++s)
+    for (const double offset : {-0.5, 0.5}) {
+      x(static_cast<Eigen::Index>(targets.size()), 1) = centres[s] + offset;
+      x(static_cast<Eigen::Index>(targets.size()), 0) = 100.0 * offset;  // outside the compared columns
+      targets.push_back(session_label[s]), groups.push_back(s);
+    }
+  const KnownSessions known = known_sessions(x, targets, groups, 1, 2);
+  ASSERT_EQ(known.means.rows(), 5);
+  EXPECT_EQ(known.means(1, 0), 3.0);
+  EXPECT_DOUBLE_EQ(sibling_radius(known), 4.0);  // 15 is 4 from 11; 0 and 3 are 3 apart
+  Eigen::MatrixXd query = Eigen::MatrixXd::Zero(2, 3);
+  query.col(1) << 6.0, 8.0;  // mean 7
+  EXPECT_DOUBLE_EQ(distance_to_label(known, query, 0), 4.0);
+  EXPECT_DOUBLE_EQ(distance_to_label(known, query, 1), 3.0);
+  const KnownSessions back = known_sessions_from_json(Json::parse(to_json(known).dump()), 2, 3, "c.json");
+  EXPECT_TRUE(back.means == known.means);
+  EXPECT_EQ(back.labels, known.labels);
+  EXPECT_THROW(known_sessions_from_json(to_json(known), 1, 3, "c.json"), InputError);  // label 1 of one label
+  EXPECT_THROW(known_sessions_from_json(to_json(known), 2, 2, "c.json"), InputError);  // columns outside
+  // A label with one session has no sibling; none with two: no radius.
+  EXPECT_EQ(sibling_radius(known_sessions(x.topRows(4), {0, 0, 1, 1}, {0, 0, 1, 1}, 1, 2)), std::numeric_limits<double>::infinity());
+}
+
 // --- Recognition accuracy ---------------------------------------------------------------------------------
 
 // Views and sessions answered right.
@@ -421,20 +467,21 @@ AppearanceClassifier train_on(const std::vector<std::string>& dirs) {
 // Three grasps of each of the six families for training, two others for testing: the best label (every
 // tool here is known), and the answer with the classifier's own unknown floor (printed).
 // Issue 18 asks for >= 90 % of views and >= 11 of 12 sessions with grey tools, >= 95 % of views with
-// palette colours. Measured (README): grey 78.3 % of views, 12/12 sessions; palette 71.7 %, 11/12. The
-// session floor on grey tools (11) is the issue's and is asserted; the view floors are not met, and what
-// is asserted is what the descriptor measures less about 1.5 binomial standard deviations (60 views: sd
-// 6 %), to catch a regression.
-// known_floor: the sessions the classifier must still answer right with its own unknown floor (the
-// default users get).
+// palette colours. Measured (README): 60/60 views, 12/12 sessions for grey, palette and family colours on
+// these seeds (set 0); on five other seed sets 94.0 % of views grey, 92.7 % palette, so the issue's
+// floors are asserted (not the 100 % of these seeds).
+// known_floor: the sessions the classifier must still answer right with its own unknown rules (the
+// floor and the distance to the known sessions, the default users get): 11/12 measured for each way of
+// painting, asserted.
 void expect_recognised(Paint paint, double view_floor, int session_floor, int known_floor) {
   const AppearanceClassifier classifier = train_on(sessions(kTools, kTrainGrasps, paint));
   ASSERT_EQ(classifier.model.labels.size(), kTools.size());
   Tally with_unknown, best_label;
   tally(classifier, sessions(kTools, kTestGrasps, paint), classifier.decision, "", with_unknown);
   tally(classifier, sessions(kTools, kTestGrasps, paint), {-1e9, 0.0}, "", best_label);
-  std::cout << to_string(paint) << " tools: best label " << best_label.text() << "; with the unknown floor "
-            << classifier.decision.min_score << ": " << with_unknown.text() << "; leave-one-out on training "
+  std::cout << to_string(paint) << " tools: best label " << best_label.text() << "; with its unknown rules, floor "
+            << classifier.decision.min_score << ", max distance " << classifier.decision.max_distance << ": "
+            << with_unknown.text() << "; leave-one-out on training "
             << 100.0 * classifier.model.loo_accuracy << " %, lambda " << classifier.model.lambda << '\n';
   ::testing::Test::RecordProperty(std::string(to_string(paint)) + "_view_accuracy", std::to_string(best_label.view_rate()));
   EXPECT_GE(best_label.view_rate(), view_floor);
@@ -442,18 +489,19 @@ void expect_recognised(Paint paint, double view_floor, int session_floor, int kn
   EXPECT_GE(with_unknown.sessions_right, known_floor);
 }
 
-TEST(AppearanceAccuracy, SameColouredToolsToldApartByShape) { expect_recognised(Paint::grey, 0.70, 11, 11); }
+TEST(AppearanceAccuracy, SameColouredToolsToldApartByShape) { expect_recognised(Paint::grey, 0.90, 11, 11); }
 
-TEST(AppearanceAccuracy, PaletteColouredToolsRecognised) { expect_recognised(Paint::palette, 0.62, 10, 9); }
+TEST(AppearanceAccuracy, PaletteColouredToolsRecognised) { expect_recognised(Paint::palette, 0.95, 11, 11); }
 
 // Each family its own colour, as the simulator painted tools before issue 18: what users had must not
-// regress, with the default (calibrated) unknown floor too.
-TEST(AppearanceAccuracy, FamilyColouredToolsRecognised) { expect_recognised(Paint::family, 0.95, 12, 12); }
+// regress; with the default unknown rules one session of 12 is turned away (the distance rule).
+TEST(AppearanceAccuracy, FamilyColouredToolsRecognised) { expect_recognised(Paint::family, 0.95, 12, 11); }
 
 // Each family in turn left out of training: its five grasps should be answered unknown (issue 18: >= 80 %
 // of sessions), while the other families' test grasps are still recognised (issue 18: >= 90 %), with the
-// classifier's own floor (calibrate_decision: it turns away at most 5 % of the known sessions left out of
-// training, and is never above the default 0). Printed for each way of painting; returns the two tallies.
+// classifier's own rules: its floor (calibrate_decision: it turns away at most 5 % of the known sessions
+// left out of training, and is never above the default 0) and its distance to the known sessions
+// (known_sessions.hpp). Printed for each way of painting; returns the two tallies.
 std::pair<Tally, Tally> leave_family_out(Paint paint) {
   Tally unknown, known;
   for (const auto out : kTools) {
@@ -474,18 +522,19 @@ std::pair<Tally, Tally> leave_family_out(Paint paint) {
 }
 
 // Issue 18 asks for >= 80 % of the left-out sessions unknown with >= 90 % of the known right. Measured
-// (README): each family its own colour (a family never seen has a colour never seen), known 60/60 right,
-// unknown 20/30 (67 %); palette colours, known 53/60 (88 %), unknown 4/30 (13 %): the shape descriptor's
-// scores for known tools in new grasps overlap those of tools never seen, and the floor keeps the known
-// right first. Asserted: the issue's 90 % of known with family colours (met), and regression floors about
-// 1.5 binomial standard deviations below what is measured for the rest (30 sessions: sd 8 %; 60: 5 %).
+// (README) with the classifier's own rules (the floor on the best score, and the distance from every
+// training session of the answer beyond the largest distance between two training grasps of one tool):
+// each family its own colour, unknown 29/30, known 53/60 (88 %); palette colours, unknown 24/30, known
+// 53/60. On five other seed sets: family colours 98.7 % unknown, 98.0 % known; palette 61.3 % and 94.7 %.
+// Asserted: the issue's 80 % unknown with family colours (met); for the rest, regression floors about 1.5
+// binomial standard deviations below what is measured (30 sessions: sd 7 %; 60: 4 %).
 TEST(AppearanceAccuracy, FamilyLeftOutAnsweredUnknown) {
   const auto [family_unknown, family_known] = leave_family_out(Paint::family);
-  EXPECT_GE(family_known.session_rate(), 0.90);
-  EXPECT_GE(family_unknown.session_rate(), 0.55);
+  EXPECT_GE(family_unknown.session_rate(), 0.80);
+  EXPECT_GE(family_known.session_rate(), 0.82);
   const auto [palette_unknown, palette_known] = leave_family_out(Paint::palette);
-  EXPECT_GE(palette_known.session_rate(), 0.80);
-  EXPECT_GE(palette_unknown.session_rate(), 0.05);
+  EXPECT_GE(palette_unknown.session_rate(), 0.68);
+  EXPECT_GE(palette_known.session_rate(), 0.82);
 }
 
 // Ablation on the same crops: the classifier trained on the shape blocks, on the colour block, and on both,
@@ -558,11 +607,13 @@ TEST(AppearanceAccuracy, AblationShapeColourCombined) {
                                sessions_right, per_session.size());
     }
   }
-  // Grey tools: colour says nothing (chance is 1 in 6), shape is what there is. Tools in their family's
-  // colour: colour alone suffices. Weighed by the data, the combination loses no more than a view in 20
-  // to the better of its parts.
+  // Grey tools: colour says nothing (chance is 1 in 6), shape is what there is, and the depth block sees
+  // more of it than the image (a turn about the handle changes the image, not the head about the
+  // handle: measured 100 % and 65 % here). Tools in their family's colour: colour alone suffices.
+  // Weighed by the data, the combination loses no more than a view in 20 to the better of its parts.
   EXPECT_LT(rate["grey/colour"], 0.4);
-  EXPECT_GE(rate["grey/shape"], 0.62);
+  EXPECT_GE(rate["grey/shape"], 0.90);
+  EXPECT_GE(rate["grey/depth"], rate["grey/image"] + 0.15);
   EXPECT_GE(rate["family/colour"], 0.95);
   for (const char* paint : {"grey", "palette", "family"})
     EXPECT_GE(rate[std::string(paint) + "/weighed"] + 0.05,
@@ -687,11 +738,17 @@ TEST(AppearanceCli, TrainThenClassifySessionImageAndFeatures) {
   EXPECT_EQ(result["type"], "classification");
   EXPECT_EQ(result["version"], 1);
   EXPECT_EQ(result["label"], "rake");
+  EXPECT_LE(result["distance"].get<double>(), result["max_distance"].get<double>());
   EXPECT_EQ(result["per_sample"].size(), 5u);
   EXPECT_EQ(result["per_sample"][0]["scores"].size(), 3u);
   const auto file = (dir / "result.json").string();
   ASSERT_EQ(run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " -o " + file).exit_code, 0);
   EXPECT_EQ(slurp(file), run.out);
+  // A session nearer no training session of its answer than --max-distance is a tool never seen.
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " --max-distance 0 -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(Json::parse(run.out)["label"], kUnknownLabel);
+  EXPECT_EQ(Json::parse(run.out)["max_distance"], 0.0);
 
   // One view, then the same crop as an image and a box (the view's blob box: the crop adds the margin;
   // the blob is then estimated from the crop, not read from blob.png).
@@ -699,6 +756,7 @@ TEST(AppearanceCli, TrainThenClassifySessionImageAndFeatures) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json view = Json::parse(run.out);
   ASSERT_EQ(view["per_sample"].size(), 1u);
+  EXPECT_FALSE(view.contains("distance"));  // the distance is measured for whole sessions only
   const SessionInfo info = read_session(test_session);
   const cv::Rect blob = cv::boundingRect(read_view(test_session, info, 1).blob);
   const std::string image = (fs::path(test_session) / info.views[1].dir / "left.png").string();
@@ -707,15 +765,28 @@ TEST(AppearanceCli, TrainThenClassifySessionImageAndFeatures) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json by_box = Json::parse(run.out);
   EXPECT_EQ(by_box["per_sample"][0]["box"], view["per_sample"][0]["box"]);
-  EXPECT_EQ(by_box["label"], "rake");
+  // An image has no disparity, so its depth block, which a classifier trained on sessions leans on, is
+  // zero: its scores are low and may be answered unknown, but the best of them is still the rake's.
+  const auto best_label = [](const Json& result) {
+    std::string best;
+    for (const auto& [label, score] : result["scores"].items())
+      if (best.empty() || score.get<double>() > result["scores"][best].get<double>()) best = label;
+    return best;
+  };
+  EXPECT_EQ(best_label(by_box), "rake");
   EXPECT_EQ(view["label"], "rake");
 
-  // A builtin classifier also takes the builtin features as rows.
+  // A builtin classifier also takes the builtin features as rows: the session's, with their depth, score
+  // as the session does.
   const auto rows = (dir / "rows.txt").string();
-  write_feature_rows(rows, builtin_session_features({test_session}).rows);
+  std::vector<Eigen::VectorXd> features;
+  for (const auto& crop : session_crops(test_session, info))
+    features.push_back(FeatureExtractor::builtin().extract(crop.image, crop.mask, crop.points));
+  write_feature_rows(rows, features);
   run = run_tool("learn-appearance", "classify --classifier " + classifier + " --features " + rows + " -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(Json::parse(run.out)["label"], "rake");
+  EXPECT_NEAR(Json::parse(run.out)["scores"]["rake"].get<double>(), result["scores"]["rake"].get<double>(), 1e-9);
   EXPECT_EQ(Json::parse(run.out)["per_sample"][4]["row"], 4);
 }
 

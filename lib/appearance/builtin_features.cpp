@@ -182,12 +182,16 @@ int positive_int(const Json& json, const std::string& key, const std::string& fi
 }  // namespace
 
 void check(const BuiltinFeatureConfig& c) {
+  const DepthShapeConfig& d = c.depth;
   if (c.cell <= 0 || c.block <= 0 || c.orientation_bins <= 0 || c.radial_bins <= 0 || c.hue_bins <= 0 ||
       c.saturation_bins <= 0 || c.size % c.cell != 0 || c.coarse_size % c.cell != 0 || c.coarse_size / c.cell < c.block ||
-      c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1) || c.depth.radial_bins <= 0 ||
-      !(c.depth.unit > 0) || !(c.depth.radial_step > 0) || !(c.depth.head_share > 0 && c.depth.head_share <= 1))
+      c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1) || d.head_bins <= 0 || d.radial_bins <= 0 ||
+      d.footprint_bins <= 0 || d.footprint_depth_bins <= 0 || !(d.unit > 0) || !(d.across_step > 0) ||
+      !(d.head_length > 0) || !(d.hand_margin >= 0) || !(d.handle_near >= 0 && d.handle_far > d.handle_near) ||
+      !(d.hand_min.array() < d.hand_max.array()).all())
     throw std::invalid_argument(fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px "
-                                            "cells, or the head share {} is not in (0, 1] (or the depth block's parameters are not positive)",
+                                            "cells, or the head share {} is not in (0, 1] (or the depth block's parameters "
+                                            "are not positive, its handle band or hand box empty)",
                                             c.size, c.coarse_size, c.block, c.cell, c.head_share));
 }
 
@@ -197,7 +201,8 @@ std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
   Eigen::Index at = 0;
   for (const auto& [name, size] : std::vector<std::pair<std::string, Eigen::Index>>{
            {"mask_hog", hog}, {"head_mask_hog", hog}, {"grey_hog", hog}, {"head_grey_hog", hog},
-           {"silhouette", c.radial_bins + 7}, {"depth", 6 + c.depth.radial_bins}, {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
+           {"silhouette", c.radial_bins + 7}, {"depth", depth_shape_dimension(c.depth)},
+           {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
     blocks.push_back({name, at, size}), at += size;
   return blocks;
 }
@@ -252,11 +257,20 @@ Json to_json(const BuiltinFeatureConfig& c) {
             {"of", "blob mask, grey image"}}},
           {"silhouette", {{"radial_bins", c.radial_bins}, {"hu_moments", 7}}},
           {"depth",
-           {{"unit_m", c.depth.unit},
-            {"head_share", c.depth.head_share},
+           {{"frame", "hand"},
+            {"hand_min_m", {c.depth.hand_min.x(), c.depth.hand_min.y(), c.depth.hand_min.z()}},
+            {"hand_max_m", {c.depth.hand_max.x(), c.depth.hand_max.y(), c.depth.hand_max.z()}},
+            {"hand_margin_m", c.depth.hand_margin},
+            {"handle_near_m", c.depth.handle_near},
+            {"handle_far_m", c.depth.handle_far},
+            {"head_length_m", c.depth.head_length},
+            {"head_bins", c.depth.head_bins},
+            {"across_step_m", c.depth.across_step},
             {"radial_bins", c.depth.radial_bins},
-            {"radial_step_m", c.depth.radial_step},
-            {"of", "blob pixels with a disparity, in the camera frame; weight sqrt(5)"}}},
+            {"footprint_bins", c.depth.footprint_bins},
+            {"footprint_depth_bins", c.depth.footprint_depth_bins},
+            {"unit_m", c.depth.unit},
+            {"of", "blob pixels with a disparity, in the hand frame, the hand's dropped; about the handle's axis; weight sqrt(5)"}}},
           {"colour", {{"space", "HSV"}, {"hue_bins", c.hue_bins}, {"saturation_bins", c.saturation_bins}, {"of", "blob pixels"}}},
           {"normalisation", "each block L2 (depth times sqrt(5)), all divided by sqrt(11)"},
           {"dimension", builtin_dimension(c)}};
@@ -280,13 +294,27 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
   c.block = positive_int(json["hog"], "block", file);
   c.orientation_bins = positive_int(json["hog"], "orientation_bins", file);
   c.radial_bins = positive_int(json["silhouette"], "radial_bins", file);
-  c.depth.radial_bins = positive_int(json["depth"], "radial_bins", file);
-  for (const auto& [key, value] : {std::pair<const char*, double*>{"unit_m", &c.depth.unit},
-                                   {"head_share", &c.depth.head_share}, {"radial_step_m", &c.depth.radial_step}}) {
-    const Json& number = json["depth"].value(key, Json());
-    if (!number.is_number() || !(number.get<double>() > 0))
-      throw InputError(file, fmt::format("extractor: depth \"{}\" must be a positive number", key));
+  const Json& depth = json["depth"];
+  for (const auto& [key, value] : {std::pair<const char*, int*>{"head_bins", &c.depth.head_bins},
+                                   {"radial_bins", &c.depth.radial_bins},
+                                   {"footprint_bins", &c.depth.footprint_bins},
+                                   {"footprint_depth_bins", &c.depth.footprint_depth_bins}})
+    *value = positive_int(depth, key, file);
+  for (const auto& [key, value] : {std::pair<const char*, double*>{"hand_margin_m", &c.depth.hand_margin},
+                                   {"handle_near_m", &c.depth.handle_near}, {"handle_far_m", &c.depth.handle_far},
+                                   {"head_length_m", &c.depth.head_length}, {"across_step_m", &c.depth.across_step},
+                                   {"unit_m", &c.depth.unit}}) {
+    const Json& number = depth.value(key, Json());
+    if (!number.is_number()) throw InputError(file, fmt::format("extractor: depth \"{}\" must be a number", key));
     *value = number.get<double>();
+  }
+  for (const auto& [key, value] : {std::pair<const char*, Eigen::Vector3d*>{"hand_min_m", &c.depth.hand_min},
+                                   {"hand_max_m", &c.depth.hand_max}}) {
+    const Json& corner = depth.value(key, Json());
+    const auto number = [](const Json& v) { return v.is_number(); };
+    if (!corner.is_array() || corner.size() != 3 || !std::all_of(corner.begin(), corner.end(), number))
+      throw InputError(file, fmt::format("extractor: depth \"{}\" must be 3 numbers", key));
+    *value = {corner[0].get<double>(), corner[1].get<double>(), corner[2].get<double>()};
   }
   c.hue_bins = positive_int(json["colour"], "hue_bins", file);
   c.saturation_bins = positive_int(json["colour"], "saturation_bins", file);

@@ -30,22 +30,25 @@ Json classifier_json(const AppearanceClassifier& classifier, const Json& trainin
   Json weights = Json::array();
   for (Eigen::Index c = 0; c < m.weights.cols(); ++c)
     weights.push_back(std::vector<double>(m.weights.col(c).data(), m.weights.col(c).data() + m.weights.rows()));
-  return {{"type", "classifier"},
-          {"version", kClassifierVersion},
-          {"method", "one-vs-all regularised least squares (targets +1/-1, unregularised bias)"},
-          {"labels", m.labels},
-          {"extractor", classifier.extractor.to_json()},
-          {"lambda", m.lambda},
-          {"lambda_selection", {{"method", "leave-one-out"}, {"error", m.loo_error}, {"accuracy", m.loo_accuracy}}},
-          {"decision", [&] {
-             Json decision = classifier.decision_summary;
-             decision["min_score"] = classifier.decision.min_score;
-             decision["min_margin"] = classifier.decision.min_margin;
-             return decision;
-           }()},
-          {"training", training},
-          {"bias", std::vector<double>(m.bias.data(), m.bias.data() + m.bias.size())},
-          {"weights", weights}};
+  Json json = {{"type", "classifier"},
+              {"version", kClassifierVersion},
+              {"method", "one-vs-all regularised least squares (targets +1/-1, unregularised bias)"},
+              {"labels", m.labels},
+              {"extractor", classifier.extractor.to_json()},
+              {"lambda", m.lambda},
+              {"lambda_selection", {{"method", "leave-one-out"}, {"error", m.loo_error}, {"accuracy", m.loo_accuracy}}},
+              {"decision", [&] {
+                 Json decision = classifier.decision_summary;
+                 decision["min_score"] = classifier.decision.min_score;
+                 decision["min_margin"] = classifier.decision.min_margin;
+                 if (std::isfinite(classifier.decision.max_distance)) decision["max_distance"] = classifier.decision.max_distance;
+                 return decision;
+               }()},
+              {"training", training},
+              {"bias", std::vector<double>(m.bias.data(), m.bias.data() + m.bias.size())},
+              {"weights", weights}};
+  if (classifier.known) json["known_sessions"] = to_json(*classifier.known);
+  return json;
 }
 
 AppearanceClassifier read_classifier(const std::string& path, const std::string& model) {
@@ -83,8 +86,17 @@ AppearanceClassifier read_classifier(const std::string& path, const std::string&
         throw InputError(path, fmt::format("decision: \"{}\" must be a finite number", key));
       *value = summary[key].get<double>();
     }
+    if (summary.contains("max_distance")) {
+      if (!summary["max_distance"].is_number() || !(summary["max_distance"].get<double>() >= 0))
+        throw InputError(path, "decision: \"max_distance\" must be a number >= 0");
+      if (!json.contains("known_sessions")) throw InputError(path, "decision: \"max_distance\" without \"known_sessions\"");
+      decision.max_distance = summary["max_distance"].get<double>();
+    }
   }
-  return {std::move(extractor), std::move(m), decision, std::move(summary)};
+  std::optional<KnownSessions> known;
+  if (json.contains("known_sessions"))
+    known = known_sessions_from_json(json["known_sessions"], m.labels.size(), dimension, path);
+  return {std::move(extractor), std::move(m), decision, std::move(summary), std::move(known)};
 }
 
 }  // namespace toolinc

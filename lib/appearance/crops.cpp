@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/rigid.hpp"
 
 namespace toolinc {
 
@@ -57,16 +58,18 @@ std::optional<cv::Rect> view_crop_box(const ViewData& data, const ViewRecord& re
   return box;
 }
 
-// The blob's pixels with a valid disparity, back-projected through the left camera (z = fx b / d).
-std::vector<Eigen::Vector3d> blob_points(const ViewData& data, const CameraModel& camera) {
+// The blob's pixels with a valid disparity, back-projected through the left camera (z = fx b / d) and
+// moved into the hand frame by the view's recorded poses.
+std::vector<Eigen::Vector3d> blob_points(const ViewData& data, const CameraModel& camera, const ViewRecord& record) {
   std::vector<Eigen::Vector3d> points;
   if (data.blob.empty()) return points;
+  const Eigen::Matrix4d hand_from_camera = inverse(record.root_from_hand) * record.root_from_camera;
   for (int y = 0; y < data.blob.rows; ++y)
     for (int x = 0; x < data.blob.cols; ++x) {
       const int value = data.disparity.at<uchar>(y, x);
       if (!data.blob.at<uchar>(y, x) || value == 0) continue;
       const double z = camera.fx * camera.baseline / camera.disparity_px(value);
-      points.emplace_back((x - camera.cx) * z / camera.fx, (y - camera.cy) * z / camera.fy, z);
+      points.push_back(apply(hand_from_camera, {(x - camera.cx) * z / camera.fx, (y - camera.cy) * z / camera.fy, z}));
     }
   return points;
 }
@@ -86,7 +89,7 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
     const auto crop = view_crop_box(data, session.views[i]);
     if (!crop) throw InputError(view_file, "no blob inside the image (neither blob.png nor a blob roi) to crop the tool from");
     crops.push_back({i, *crop, data.left(*crop).clone(), data.blob.empty() ? cv::Mat() : data.blob(*crop).clone(),
-                     blob_points(data, session.camera)});
+                     blob_points(data, session.camera, session.views[i])});
   }
   return crops;
 }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -138,9 +139,18 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
                100.0 * model.loo_accuracy);
   Json calibration;
   const bool sessions_only = sources.images.empty() && !database;
-  const DecisionConfig decision = calibrate_decision(x, targets, labels, groups, sessions_only, model, rls, {}, calibration);
+  DecisionConfig decision = calibrate_decision(x, targets, labels, groups, sessions_only, model, rls, {}, calibration);
+  std::optional<KnownSessions> known;
   if (extractor.name() == "builtin") {  // the weights move into the model's rows: the extractor stays as it is
     const auto blocks = builtin_blocks(extractor.builtin_config());
+    if (sessions_only && !sources.sessions.empty()) {
+      const FeatureBlock& depth = blocks[blocks.size() - 2];
+      known = known_sessions(x, targets, groups, depth.start, depth.size);
+      decision.max_distance = sibling_radius(*known);
+      calibration["max_distance_from"] =
+          "the largest distance from a training session's mean depth block to the nearest other session of its label";
+      spdlog::info("unknown beyond {:.3f} from every training session of the answer (depth block)", decision.max_distance);
+    }
     model.weights.topRows(blocks[blocks.size() - 2].start) *= block_weights["image_shape"].get<double>();
     model.weights.middleRows(blocks.back().start, blocks.back().size) *= block_weights["colour"].get<double>();
   }
@@ -152,7 +162,7 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
                       {"images", sources.images},
                       {"features_db", sources.features_db}};
   if (!block_weights.empty()) training_summary["block_weights"] = block_weights;
-  return {extractor, std::move(model), decision, calibration};
+  return {extractor, std::move(model), decision, calibration, std::move(known)};
 }
 
 Json classify_appearance(const AppearanceClassifier& classifier, const std::string& classifier_path,
@@ -162,6 +172,7 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
   if (input.image.empty() == input.bbox.has_value()) throw std::invalid_argument("--image and --bbox go together");
   if (input.view && input.session.empty()) throw std::invalid_argument("--view needs --session");
   const FeatureExtractor& extractor = classifier.extractor;
+  const std::vector<std::string>& labels = classifier.model.labels;
   if (input.features.empty() && !extractor.extracts_from_images())
     throw InputError(classifier_path, "trained on external features: only --features can be classified");
 
@@ -191,8 +202,20 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
     source = {{"features", input.features}};
   }
   const Json context = {{"classifier", classifier_path}, {"extractor", extractor.name()}, {"input", source}};
-  return classification_json(classifier.model.labels, rls_scores(classifier.model, stack(rows)), std::move(samples),
-                             decision, context);
+  const Eigen::MatrixXd features = stack(rows);
+  Json result = classification_json(labels, rls_scores(classifier.model, features), std::move(samples), decision, context);
+  // A whole session whose head lies farther from every training session of its answer than any training
+  // session lies from its nearest sibling is a tool never seen (known_sessions.hpp).
+  const auto answer = std::find(labels.begin(), labels.end(), result["label"].get<std::string>());
+  if (classifier.known && !input.session.empty() && !input.view && std::isfinite(decision.max_distance) &&
+      answer != labels.end()) {
+    const auto label = static_cast<std::size_t>(answer - labels.begin());
+    const double distance = distance_to_label(*classifier.known, features, label);
+    result["distance"] = distance;
+    result["max_distance"] = decision.max_distance;
+    if (distance > decision.max_distance) result["label"] = kUnknownLabel;
+  }
+  return result;
 }
 
 }  // namespace toolinc

@@ -12,9 +12,9 @@
 //  - "silhouette": the blob's rotation-invariant shape: the histogram of its pixels' distances from the
 //    centroid (in units of the farthest, square-rooted shares) and its seven Hu moments (-sign log10 |h|,
 //    divided by 10 to the histogram's range);
-//  - "depth": the blob's extents in 3D from its disparity (depth_shape.hpp), which a turn of the tool
-//    about its handle does not change; it counts as much as the five image shape blocks together (scaled
-//    by sqrt(5)), and is zero for an image without disparity;
+//  - "depth": the tool's head about its handle's axis in 3D, from the blob's disparity in the hand frame
+//    (depth_shape.hpp), which a turn of the tool about its handle does not change; it counts as much as
+//    the five image shape blocks together (scaled by sqrt(5)), and is zero for an image without disparity;
 //  - "colour": a joint hue x saturation histogram of the blob's pixels in HSV, square-rooted shares.
 // Each block has unit norm (depth sqrt(5)) and the whole vector is divided by sqrt(11). How much colour
 // counts is left to the training data (learn-appearance weighs the block by leave-one-session-out).
@@ -32,8 +32,9 @@
 namespace toolinc {
 
 // Which descriptor a classifier file's "builtin" extractor is: files without it predate the shape
-// descriptor (colour HOG and a hue histogram) and are refused with a request to retrain.
-constexpr int kBuiltinDescriptorVersion = 3;
+// descriptor (colour HOG and a hue histogram), earlier versions have other blocks (3: a depth block in
+// the camera frame); both are refused with a request to retrain.
+constexpr int kBuiltinDescriptorVersion = 4;
 
 struct BuiltinFeatureConfig {
   int size = 64;             // px side of the normalised window; a multiple of cell
@@ -63,7 +64,7 @@ void check(const BuiltinFeatureConfig& config);
 
 // Features of an 8-bit BGR crop and the blob's mask in it (CV_8UC1, non-zero on the blob, the crop's
 // size); an empty mask is estimated with estimate_blob_mask (blob_mask.hpp). points: the blob's pixels
-// with a disparity, in the camera frame (m; ViewCrop::points), empty when there is no depth.
+// with a disparity, in the hand frame (m; ViewCrop::points), empty when there is no depth.
 Eigen::VectorXd builtin_features(const cv::Mat& bgr, const cv::Mat& mask, const BuiltinFeatureConfig& config,
                                  const std::vector<Eigen::Vector3d>& points = {});
 

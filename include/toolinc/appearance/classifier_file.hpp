@@ -1,11 +1,14 @@
 // The classifier file (docs/formats.md "classifier"): type "classifier", version 1, the labels, the feature
 // extractor with everything needed to reproduce it (for a network, the model's SHA-256), the chosen
-// lambda and how it was chosen, the unknown thresholds and how they were chosen, and per label the weights and bias of its linear score.
+// lambda and how it was chosen, the unknown thresholds and how they were chosen (with the training sessions' depth blocks they measure
+// distances to), and per label the weights and bias of its linear score.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "toolinc/appearance/feature_extractor.hpp"
+#include "toolinc/appearance/known_sessions.hpp"
 #include "toolinc/appearance/recognition.hpp"
 #include "toolinc/appearance/rls.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -19,6 +22,7 @@ struct AppearanceClassifier {
   RlsModel model;
   DecisionConfig decision;  // the thresholds classify uses unless told others
   Json decision_summary;    // how they were chosen (files without a "decision": the defaults)
+  std::optional<KnownSessions> known;  // builtin classifiers trained on sessions: for decision.max_distance
 };
 
 // training: a summary of the training data, recorded as given.

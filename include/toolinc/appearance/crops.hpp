@@ -33,7 +33,7 @@ struct ViewCrop {
   cv::Rect box;   // the crop in the left image, margin included
   cv::Mat image;  // BGR
   cv::Mat mask;   // the blob in the crop (blob.png's), empty when the session has no blob.png
-  std::vector<Eigen::Vector3d> points;  // the blob's pixels with a disparity, in the left camera's frame (m)
+  std::vector<Eigen::Vector3d> points;  // the blob's pixels with a disparity, in the hand frame (m; recorded poses)
 };
 
 // The crops of every view of a session (or only of `view`). The blob's bounding box comes from blob.png

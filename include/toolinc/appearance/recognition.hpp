@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,12 @@ constexpr int kClassificationVersion = 1;
 // Defaults: RLS scores are fitted to +1 for the label and -1 for the others, so a sample whose best
 // score is below 0 looks more like "none of these" than like its best label; a margin of 0.1 (5% of
 // that range) leaves near-ties undecided.
+// max_distance: a whole session is also unknown when its depth block lies farther than this from every
+// training session of its answer (known_sessions.hpp; infinite: not checked).
 struct DecisionConfig {
   double min_score = 0.0;
   double min_margin = 0.1;
+  double max_distance = std::numeric_limits<double>::infinity();
 };
 
 struct Decision {
