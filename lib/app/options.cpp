@@ -25,6 +25,12 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
   cli.add_option("--handle-hand-skip", c.handle_hand_skip,
                  "Share of the length, at the hand end, left out of the handle fit (the hand may survive the cut)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 0.9));
+  cli.add_option("--handle-section-length", c.handle_section_length,
+                 "The handle's radius is refitted per section of this length, so a grip and a thinner shaft do not tilt it (m)")
+      ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--stick-width", c.stick_width,
+                 "A tool whose effector side stays this close to its axis has no head: a stick, its tip its far end (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
   cli.add_option("--symmetry-step-deg", c.symmetry_step_deg, "Coarse sweep step of the symmetry plane (deg)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.5, 45.0));
   cli.add_option("--symmetry-tolerance", c.symmetry_tolerance, "Mirror distance counted as fully asymmetric (m)")
@@ -52,6 +58,9 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--front-band", c.front_band, "Depth of the effector's front telling a face from a corner (m)")
       ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--head-curl-min", c.head_curl_min,
+                 "A blade or scoop whose edges rise this much above its middle faces its concave side (m)")
+      ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
   cli.add_option("--salience-ratio", c.salience_ratio, "Reach ratio that makes an effector side salient")
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));
   cli.add_option("--salience-min", c.salience_min, "Reach difference that makes an effector side salient (m)")
