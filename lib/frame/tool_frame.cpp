@@ -168,12 +168,15 @@ HandleFit stick_line(const Points& cloud, const PrincipalAxes& principal) {
   return fit;
 }
 
-// How far the head's edges rise along x_axis above its middle: the quadratic x = a + b z + c z^2
-// fitted to the head's points (z along z_axis from the plane through plane_point), c times the
-// square of the head's half width (its points' 90th percentile |z|). Positive when the head is
-// concave towards +x.
-double head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& plane_point,
-                 const Vec3& x_axis, const Vec3& z_axis) {
+// How a head curls across the symmetry plane: the quadratic x = a + b z + c z^2 fitted to its points
+// (z along z_axis from the plane through plane_point), and its half width (its points' 90th
+// percentile |z|). rise = c x half_width^2: how far its edges rise along x_axis above its middle,
+// positive when the head is concave towards +x.
+struct Curl {
+  double rise, half_width;
+};
+Curl head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& plane_point,
+               const Vec3& x_axis, const Vec3& z_axis) {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d right = Eigen::Vector3d::Zero();
   std::vector<double> width;
@@ -187,7 +190,7 @@ double head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, co
   }
   const Eigen::Vector3d coefficients = normal.ldlt().solve(right);
   const double half_width = quantile(width, 0.9);
-  return coefficients(2) * half_width * half_width;
+  return {coefficients(2) * half_width * half_width, half_width};
 }
 
 // The candidate planes of a sweep over half a turn: the lowest angle of each basin, a maximal
@@ -490,12 +493,13 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.effector_sign_rule = frame.salient_effector
                                  ? "salient side: the effector reaches farther along +X than along -X"
                                  : "no salient effector: +X is the marginally longer reach, sign arbitrary";
-  // A head that is thinnest along the effector axis (a blade or a scoop facing +-X) works with its
-  // concave side: when its edges curl to one side, that side is the effector's, whichever reaches
-  // farther (a scoop's belly bulges backwards).
+  // A blade or a scoop (a head thinnest along the effector axis, reaching less far along it than it is
+  // wide) works with its concave side: when its edges curl to one side, that side is the effector's,
+  // whichever reaches farther (a scoop's belly may bulge behind the handle's axis).
   if (static_cast<int>(head.size()) >= config.min_head_points &&
       std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg)) {
-    frame.head_curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
+    const Curl curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
+    if (std::max(reach.positive, reach.negative) < curl.half_width) frame.head_curl = curl.rise;
     if (std::abs(frame.head_curl) >= config.head_curl_min) {
       if (frame.head_curl < 0) {
         x_axis = -x_axis;
