@@ -203,6 +203,8 @@ TEST(SessionPipeline, EvaluateSessionsOnSgbmSessions) {
   EXPECT_EQ(session["failure"], e.tool.failure);
   EXPECT_EQ(session["model_median_m"].get<double>(), e.model_median_m);
   EXPECT_EQ(session["tooltip_error_m"].get<double>(), e.tool.tooltip_m);
+  EXPECT_EQ(session["tooltip_error_true_frame_m"].get<double>(), e.tool.tooltip_true_frame_m);
+  EXPECT_EQ(session["symmetry_plane_error_deg"].get<double>(), e.tool.symmetry_plane_deg);
   EXPECT_NE(e.model_median_m, evaluate_simulated_session(family_session(ToolFamily::hook, 100)).model_median_m);
 }
 
@@ -221,6 +223,7 @@ TEST(SessionPipeline, SgbmSessionsCompleteAndDepthEdgesAreDropped) {
   pipeline.crop = sgbm_crop();
   std::vector<double> model_errors;
   int far_without = 0, far_with = 0, points_without = 0, points_with = 0;
+  int tips_within_20mm = 0, true_frame_within_20mm = 0;
   for (ToolFamily family : all_families())
     for (std::uint32_t g = 0; g < 2; ++g) {
       SessionSimulatorConfig config = family_session(family, 100 + g);
@@ -228,8 +231,12 @@ TEST(SessionPipeline, SgbmSessionsCompleteAndDepthEdgesAreDropped) {
       const SessionErrors e = evaluate_simulated_session(config, pipeline);
       ASSERT_EQ(e.tool.failure, "") << to_string(family) << " grasp " << g;
       model_errors.push_back(e.model_median_m);
-      std::printf("%-9s grasp %u: model %.1f mm from the truth (p90 %.1f mm), tooltip error %.1f mm\n",
-                  to_string(family).c_str(), g, 1000 * e.model_median_m, 1000 * e.model.p90_m, 1000 * e.tool.tooltip_m);
+      tips_within_20mm += e.tool.tooltip_m <= 0.020;
+      true_frame_within_20mm += e.tool.tooltip_true_frame_m <= 0.020;
+      std::printf("%-9s grasp %u: model %.1f mm from the truth (p90 %.1f mm), tooltip error %.1f mm (%.1f mm with "
+                  "the true frame), symmetry plane off by %.0f deg\n", to_string(family).c_str(), g,
+                  1000 * e.model_median_m, 1000 * e.model.p90_m, 1000 * e.tool.tooltip_m,
+                  1000 * e.tool.tooltip_true_frame_m, e.tool.symmetry_plane_deg);
       if (g > 0) continue;
       // One session per family without kinematic error: each cropped view against the true surface.
       config.kinematic_error_m = config.kinematic_error_deg = 0;
@@ -256,6 +263,13 @@ TEST(SessionPipeline, SgbmSessionsCompleteAndDepthEdgesAreDropped) {
   // A regression floor, not the 3 mm (not met, README): over these few sessions the median is
   // 3.5-4.4 mm depending on the compiler's floating point (GCC, Clang), which picks other SGBM matches.
   EXPECT_LT(median(model_errors), 0.005);
+  // The tooltip on SGBM sessions, a regression floor far below the 98 % (README: 57.5 % within
+  // 20 mm over 640 sessions, the frame and the cloud each costing part): measured here 7 of 16 within
+  // 20 mm, and 11 of 16 with the true frame on the same merged models.
+  std::printf("tooltip within 20 mm in %d of 16 sessions, %d with the true frame\n", tips_within_20mm,
+              true_frame_within_20mm);
+  EXPECT_GE(tips_within_20mm, 5);
+  EXPECT_GE(true_frame_within_20mm, 7);
 }
 
 TEST(SessionPipeline, CommandsFailCleanlyOnBadInput) {

@@ -3,6 +3,8 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
@@ -27,6 +29,16 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
     errors.tooltip_m = tooltip_error(truth, tip.position);
+    errors.symmetry_plane_deg =
+        std::acos(std::min(1.0, std::abs(frame.symmetry_axis().dot(truth.axes.col(2))))) * 180.0 / M_PI;
+    ToolFrame true_frame;
+    true_frame.axes = truth.axes;
+    true_frame.origin = truth.origin;
+    try {
+      errors.tooltip_true_frame_m = tooltip_error(truth, find_tooltip(cloud, true_frame, tooltip_config).position);
+    } catch (const MethodError&) {  // no dense point on the true effector side: as far as can be
+      errors.tooltip_true_frame_m = std::numeric_limits<double>::infinity();
+    }
   } catch (const MethodError& e) {
     errors.failure = e.what();
   }

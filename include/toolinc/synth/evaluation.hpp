@@ -21,6 +21,11 @@ struct HeldToolErrors {
   double handle_axis_deg = 0.0;
   bool effector_sign_right = false;  // meaningful for tools with a salient effector
   double tooltip_m = 0.0;
+  // What the frame costs: the tooltip rule applied to the same cloud with the true frame, and how far
+  // the estimated symmetry plane is turned from the true one (0-90 degrees). A miss that the true frame
+  // also makes lies in the cloud (the tip not seen, or points off the tool in front of it), not in the frame.
+  double tooltip_true_frame_m = 0.0;
+  double symmetry_plane_deg = 0.0;
   std::string failure;               // the MethodError's reason when the method failed, else empty
 };
 
