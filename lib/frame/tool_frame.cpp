@@ -140,14 +140,12 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& start, const Tool
   return fit;
 }
 
-// How far the effector side (beyond centre, away from the hand at the origin) stands out from the
-// line through centre along axis: the q-quantile of its points' distances from it.
-double effector_extent(const Points& cloud, const Vec3& centre, const Vec3& axis, double q) {
-  const Vec3 towards_hand = axis.dot(-centre) < 0 ? Vec3(-axis) : axis;
-  const Cylinder line{centre, towards_hand, 0.0, 0.0};
+// How far the effector side (the points beyond side_point, away from the hand along line.axis, which
+// points towards it) stands out from the line: the q-quantile of its points' distances from it.
+double effector_extent(const Points& cloud, const Vec3& side_point, const Cylinder& line, double q) {
   std::vector<double> radial;
   for (const auto& p : cloud)
-    if ((p - centre).dot(towards_hand) < 0) radial.push_back(radial_distance(line, p));
+    if ((p - side_point).dot(line.axis) < 0) radial.push_back(radial_distance(line, p));
   return radial.empty() ? 0.0 : quantile(radial, q);
 }
 
@@ -366,7 +364,9 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // bent or wavy stick's local cylinder would tilt. Any other tool's major axis is tilted by its head,
   // so its handle is fitted.
   HandleFit handle;
-  if (effector_extent(cloud, principal.centroid, principal.axes.col(0), config.salience_quantile) < config.stick_width) {
+  const Vec3& major = principal.axes.col(0);
+  const Cylinder major_line{principal.centroid, major.dot(principal.centroid) > 0 ? Vec3(-major) : Vec3(major), 0.0, 0.0};
+  if (effector_extent(cloud, principal.centroid, major_line, config.salience_quantile) < config.stick_width) {
     handle = stick_line(cloud, principal);
   } else {
     const auto fit_from = [&](const PrincipalAxes& start) {
@@ -408,14 +408,12 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // pulls the plane towards the cameras. A stick has no head: all its points are mirrored.
   const Cylinder handle_line{centre, y_axis, 0.0, 0.0};
   std::vector<std::uint32_t> head;
-  std::vector<double> effector_radial;
-  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
-    if ((cloud[i] - principal.centroid).dot(y_axis) >= 0) continue;
-    effector_radial.push_back(radial_distance(handle_line, cloud[i]));
-    if (effector_radial.back() >= config.head_radius_factor * handle.radius) head.push_back(i);
-  }
+  for (std::uint32_t i = 0; i < cloud.size(); ++i)
+    if ((cloud[i] - principal.centroid).dot(y_axis) < 0 &&
+        radial_distance(handle_line, cloud[i]) >= config.head_radius_factor * handle.radius)
+      head.push_back(i);
   // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
-  frame.head_extent = effector_radial.empty() ? 0.0 : quantile(effector_radial, config.salience_quantile);
+  frame.head_extent = effector_extent(cloud, principal.centroid, handle_line, config.salience_quantile);
   frame.stick = frame.head_extent < config.stick_width;
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                               config.symmetry_tolerance, config.symmetry_match_weight,
