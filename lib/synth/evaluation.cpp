@@ -31,9 +31,11 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
     errors.tooltip_m = tooltip_error(truth, tip.position);
     errors.symmetry_plane_deg =
         std::acos(std::min(1.0, std::abs(frame.symmetry_axis().dot(truth.axes.col(2))))) * 180.0 / M_PI;
+    // The true axes and origin; whether the tool is a stick (no head) is the tool's, as the estimate saw it.
     ToolFrame true_frame;
     true_frame.axes = truth.axes;
     true_frame.origin = truth.origin;
+    true_frame.stick = frame.stick;
     try {
       errors.tooltip_true_frame_m = tooltip_error(truth, find_tooltip(cloud, true_frame, tooltip_config).position);
     } catch (const MethodError&) {  // no dense point on the true effector side: as far as can be
