@@ -59,6 +59,11 @@ struct HandleFit {
   bool cylinder = true;  // false: the handle's points did not form a surface, their principal axis is used
 };
 
+// The line through point along axis, its direction signed towards the hand at the origin.
+Cylinder line_towards_hand(const Vec3& point, const Vec3& axis) {
+  return {point, axis.dot(-point) < 0 ? Vec3(-axis) : axis, 0.0, 0.0};
+}
+
 // The part of the tool the hand holds: the points nearer the hand (the origin) than halfway between
 // the tool's nearest and farthest points. A heavy head (most of a reconstruction's points) tilts the
 // whole tool's principal axis towards it, but not this part's.
@@ -78,10 +83,7 @@ Points near_half(const Points& cloud) {
 // uneven coverage of the handle.
 HandleFit fit_handle(const Points& cloud, const PrincipalAxes& start, const ToolFrameConfig& config,
                      double hand_skip) {
-  Cylinder handle;
-  handle.axis = start.axes.col(0);
-  handle.point = start.centroid;
-  if (handle.axis.dot(-handle.point) < 0) handle.axis = -handle.axis;
+  Cylinder handle = line_towards_hand(start.centroid, start.axes.col(0));
   HandleFit fit{handle.axis, handle.point, 0, 0.0, 0.0, true};
   std::vector<double> along(cloud.size()), radial;
   Points slab, fitted;
@@ -150,11 +152,10 @@ double effector_extent(const Points& cloud, const Vec3& side_point, const Cylind
 }
 
 // A stick's handle: its principal line, signed towards the hand, the radius its points' median distance.
-HandleFit stick_line(const Points& cloud, const PrincipalAxes& principal) {
+HandleFit stick_line(const Points& cloud, const Cylinder& line) {
   HandleFit fit;
-  fit.axis = principal.axes.col(0).dot(-principal.centroid) < 0 ? Vec3(-principal.axes.col(0)) : Vec3(principal.axes.col(0));
-  fit.point = principal.centroid;
-  const Cylinder line{fit.point, fit.axis, 0.0, 0.0};
+  fit.axis = line.axis;
+  fit.point = line.point;
   std::vector<double> radial;
   for (const auto& p : cloud) radial.push_back(radial_distance(line, p));
   fit.radius = median(radial);
@@ -364,10 +365,9 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // bent or wavy stick's local cylinder would tilt. Any other tool's major axis is tilted by its head,
   // so its handle is fitted.
   HandleFit handle;
-  const Vec3& major = principal.axes.col(0);
-  const Cylinder major_line{principal.centroid, major.dot(principal.centroid) > 0 ? Vec3(-major) : Vec3(major), 0.0, 0.0};
+  const Cylinder major_line = line_towards_hand(principal.centroid, principal.axes.col(0));
   if (effector_extent(cloud, principal.centroid, major_line, config.salience_quantile) < config.stick_width) {
-    handle = stick_line(cloud, principal);
+    handle = stick_line(cloud, major_line);
   } else {
     const auto fit_from = [&](const PrincipalAxes& start) {
       HandleFit fit = fit_handle(cloud, start, config, config.handle_hand_skip);
