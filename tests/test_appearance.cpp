@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include "run_tool.hpp"
 #include "toolinc/appearance/blob_mask.hpp"
 #include "toolinc/appearance/crops.hpp"
+#include "toolinc/appearance/depth_shape.hpp"
 #include "toolinc/appearance/known_sessions.hpp"
 #include "toolinc/appearance/learn_appearance.hpp"
 #include "toolinc/appearance/onnx_writer.hpp"
@@ -28,6 +30,7 @@
 #include "toolinc/core/random.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
 namespace toolinc {
@@ -211,7 +214,7 @@ TEST(AppearanceBuiltin, UnitNormDeterministicAndColourOnlyInItsBlock) {
   const Eigen::VectorXd a = builtin_features(crops[0].image, crops[0].mask, config, crops[0].points);
   const auto blocks = builtin_blocks(config);
   EXPECT_EQ(static_cast<std::size_t>(a.size()), builtin_dimension(config));
-  EXPECT_EQ(a.size(), 4 * (7 * 7 * 36 + 3 * 3 * 36) + (16 + 7) + (6 + 4 * 6 + 4 * 8 * 4) + 16 * 4);
+  EXPECT_EQ(a.size(), 4 * (7 * 7 * 36 + 3 * 3 * 36) + (16 + 7) + (6 + 4 * 6 + 4 * 12 * 4) + 16 * 4);
   EXPECT_NEAR(a.norm(), 1.0, 1e-6);
   for (const auto& b : blocks)
     EXPECT_NEAR(a.segment(b.start, b.size).norm(), (b.name == "depth" ? std::sqrt(5.0) : 1.0) / std::sqrt(11.0), 1e-6) << b.name;
@@ -260,6 +263,31 @@ TEST(AppearanceBuiltin, UnitNormDeterministicAndColourOnlyInItsBlock) {
 
 // Without a recorded blob (an image and a box) the blob is estimated from the crop: compared with the
 // rendered hand-and-tool mask over every view of two sessions per paint.
+// The handle's axis the depth block describes the head about, against the true one, on every view of the
+// five grasps of each family (set 0). A shovel's 10 cm blade reaches into the handle band (10-16 cm from
+// the far end) and, seen face-on beside a sliver of handle, tilted the axis 12-44 degrees in 25 of its 25
+// views before the band was trimmed to its points near the axis; measured now: 147 of 150 views within 5
+// degrees, 23 of the shovel's 25. Asserted: 90 % of all and 80 % of the shovel's.
+TEST(AppearanceDepth, HandleAxisFollowsTheHandleNotTheHead) {
+  const DepthShapeConfig config;
+  int within = 0, views = 0, shovel_within = 0, shovel_views = 0;
+  for (const auto family : kTools)
+    for (int grasp = 0; grasp < 5; ++grasp) {
+      const std::string dir = session(family, grasp).string();
+      const Eigen::Vector3d handle = read_ground_truth((fs::path(dir) / "ground_truth.json").string()).axes.col(1);
+      for (const auto& crop : session_crops(dir, read_session(dir))) {
+        const auto axis = depth_shape_axis(crop.points, config);
+        const bool near = axis && std::abs(axis->dot(handle)) >= std::cos(5.0 * M_PI / 180);
+        ++views, within += near;
+        if (family == ToolFamily::shovel) ++shovel_views, shovel_within += near;
+      }
+    }
+  std::cout << "handle axis within 5 degrees: " << within << "/" << views << " views, shovel " << shovel_within << "/"
+            << shovel_views << '\n';
+  EXPECT_GE(within, 0.9 * views);
+  EXPECT_GE(shovel_within, 0.8 * shovel_views);
+}
+
 TEST(AppearanceBuiltin, EstimatedBlobOverlapsTheRecordedOne) {
   for (const Paint paint : {Paint::grey, Paint::palette})
     for (const auto family : {ToolFamily::rake, ToolFamily::l_stick}) {
@@ -395,10 +423,13 @@ TEST(AppearanceDecision, UnknownFloorBoundsKnownRejection) {
   EXPECT_EQ(calibrate_decision(x, targets, names, groups, false, model, {}, {}, summary).min_score, DecisionConfig{}.min_score);
 }
 
-// Known sessions: each session's mean of the compared columns, the largest distance to a sibling of the
-// same label, the nearest session of a label, and the classifier file's record of them.
+// Known sessions: each session's mean of the compared columns, the columns' spread between sessions of one
+// label, the largest distance to a sibling of the same label, the nearest session of a label, and the
+// classifier file's record of them.
 TEST(AppearanceDecision, KnownSessionsRadiusAndDistance) {
   // Two labels; label 0 has sessions at 0 and 3 along column 1, label 1 at 10, 11 and 15; two rows each.
+  // Column 2 is 4 for label 0's sessions and -4 for label 1's: it tells the labels apart and never
+  // changes between the sessions of one.
   const std::vector<double> centres = {0, 3, 10, 11, 15};
   const std::vector<std::size_t> session_label = {0, 0, 1, 1, 1};
   Eigen::MatrixXd x = Eigen::MatrixXd::Zero(10, 3);
@@ -406,20 +437,38 @@ TEST(AppearanceDecision, KnownSessionsRadiusAndDistance) {
   for (std::size_t s = 0; s < centres.size(); ++s)
     for (const double offset : {-0.5, 0.5}) {
       x(static_cast<Eigen::Index>(targets.size()), 1) = centres[s] + offset;
+      x(static_cast<Eigen::Index>(targets.size()), 2) = session_label[s] == 0 ? 4.0 : -4.0;
       x(static_cast<Eigen::Index>(targets.size()), 0) = 100.0 * offset;  // outside the compared columns
       targets.push_back(session_label[s]), groups.push_back(s);
     }
   const KnownSessions known = known_sessions(x, targets, groups, 1, 2);
   ASSERT_EQ(known.means.rows(), 5);
   EXPECT_EQ(known.means(1, 0), 3.0);
-  EXPECT_DOUBLE_EQ(sibling_radius(known), 4.0);  // 15 is 4 from 11; 0 and 3 are 3 apart
+  // Column 1's pooled variance: (1.5^2 + 1.5^2 + 2^2 + 1^2 + 3^2) / (1 + 2) = 18.5 / 3; column 2's 0; their
+  // mean 18.5 / 6 is added to both.
+  const double unit_1 = std::sqrt(18.5 / 3 + 18.5 / 6), unit_2 = std::sqrt(18.5 / 6);
+  EXPECT_NEAR(known.scale[0], 1 / unit_1, 1e-12);
+  EXPECT_NEAR(known.scale[1], 1 / unit_2, 1e-12);
+  EXPECT_NEAR(sibling_radius(known), 4.0 / unit_1, 1e-12);  // 15 is 4 from 11; 0 and 3 are 3 apart
   Eigen::MatrixXd query = Eigen::MatrixXd::Zero(2, 3);
-  query.col(1) << 6.0, 8.0;  // mean 7
-  EXPECT_DOUBLE_EQ(distance_to_label(known, query, 0), 4.0);
-  EXPECT_DOUBLE_EQ(distance_to_label(known, query, 1), 3.0);
+  query.col(1) << 6.0, 8.0;  // mean 7, and 0 in column 2: 4 from either label there
+  EXPECT_NEAR(distance_to_label(known, query, 0), std::hypot(4.0 / unit_1, 4.0 / unit_2), 1e-12);
+  EXPECT_NEAR(distance_to_label(known, query, 1), std::hypot(3.0 / unit_1, 4.0 / unit_2), 1e-12);
+  // The steady column weighs more than the one that changes from session to session: a query 3 away in
+  // column 2 is farther from label 0 than one 3 away in column 1.
+  Eigen::MatrixXd along_1 = Eigen::MatrixXd::Zero(1, 3), along_2 = Eigen::MatrixXd::Zero(1, 3);
+  along_1(0, 1) = -3, along_1(0, 2) = 4, along_2(0, 2) = 1;
+  EXPECT_GT(distance_to_label(known, along_2, 0), 1.5 * distance_to_label(known, along_1, 0));
   const KnownSessions back = known_sessions_from_json(Json::parse(to_json(known).dump()), 2, 3, "c.json");
   EXPECT_TRUE(back.means == known.means);
+  EXPECT_TRUE(back.scale == known.scale);
   EXPECT_EQ(back.labels, known.labels);
+  Json no_scale = to_json(known);
+  no_scale.erase("scale");
+  EXPECT_THROW(known_sessions_from_json(no_scale, 2, 3, "c.json"), InputError);
+  Json bad_scale = to_json(known);
+  bad_scale["scale"][1] = 0.0;
+  EXPECT_THROW(known_sessions_from_json(bad_scale, 2, 3, "c.json"), InputError);
   EXPECT_THROW(known_sessions_from_json(to_json(known), 1, 3, "c.json"), InputError);  // label 1 of one label
   EXPECT_THROW(known_sessions_from_json(to_json(known), 2, 2, "c.json"), InputError);  // columns outside
   // A label with one session has no sibling; none with two: no radius.
@@ -468,7 +517,7 @@ AppearanceClassifier train_on(const std::vector<std::string>& dirs) {
 // tool here is known), and the answer with the classifier's own unknown floor (printed).
 // Issue 18 asks for >= 90 % of views and >= 11 of 12 sessions with grey tools, >= 95 % of views with
 // palette colours. Measured (README): 60/60 views, 12/12 sessions for grey, palette and family colours on
-// these seeds (set 0); on five other seed sets 94.0 % of views grey, 92.7 % palette, so the issue's
+// these seeds (set 0); on five other seed sets 94.0 % of views grey, 93.3 % palette, so the issue's
 // floors are asserted (not the 100 % of these seeds).
 // known_floor: the sessions the classifier must still answer right with its own unknown rules (the
 // floor and the distance to the known sessions, the default users get): 11/12 measured for each way of
@@ -523,18 +572,19 @@ std::pair<Tally, Tally> leave_family_out(Paint paint) {
 
 // Issue 18 asks for >= 80 % of the left-out sessions unknown with >= 90 % of the known right. Measured
 // (README) with the classifier's own rules (the floor on the best score, and the distance from every
-// training session of the answer beyond the largest distance between two training grasps of one tool):
-// each family its own colour, unknown 29/30, known 53/60 (88 %); palette colours, unknown 24/30, known
-// 53/60. On five other seed sets: family colours 98.7 % unknown, 98.0 % known; palette 61.3 % and 94.7 %.
-// Asserted: the issue's 80 % unknown with family colours (met); for the rest, regression floors about 1.5
-// binomial standard deviations below what is measured (30 sessions: sd 7 %; 60: 4 %).
+// training session of the answer, each column of the depth block in units of its spread between the
+// training grasps of one tool, beyond the largest distance from a training session to its nearest
+// sibling): each family its own colour, unknown 30/30, known 51/60 (85 %); palette colours, unknown
+// 27/30, known 51/60. On five other seed sets: see the README.
+// Asserted: the issue's 80 % unknown for both (met); for the known, regression floors about 1.5 binomial
+// standard deviations below what is measured (60 sessions: sd 4.6 %).
 TEST(AppearanceAccuracy, FamilyLeftOutAnsweredUnknown) {
   const auto [family_unknown, family_known] = leave_family_out(Paint::family);
   EXPECT_GE(family_unknown.session_rate(), 0.80);
-  EXPECT_GE(family_known.session_rate(), 0.82);
+  EXPECT_GE(family_known.session_rate(), 0.78);
   const auto [palette_unknown, palette_known] = leave_family_out(Paint::palette);
-  EXPECT_GE(palette_unknown.session_rate(), 0.68);
-  EXPECT_GE(palette_known.session_rate(), 0.82);
+  EXPECT_GE(palette_unknown.session_rate(), 0.80);
+  EXPECT_GE(palette_known.session_rate(), 0.78);
 }
 
 // Ablation on the same crops: the classifier trained on the shape blocks, on the colour block, and on both,

@@ -11,7 +11,7 @@ namespace {
 
 constexpr std::size_t kMinPoints = 20;  // fewer: no shape worth describing (a few stray disparities)
 constexpr int kExtents = 6;
-constexpr int kAxisRefinements = 3;  // the band moves with the axis; 3 passes settle it (median error 1 deg)
+constexpr int kAxisRefinements = 5;  // the band moves with the axis; 5 passes settle it (median error 1 deg)
 
 struct Axis {
   Eigen::Vector3d origin, direction;  // direction towards the far end
@@ -41,8 +41,11 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
     set_extremes(points, axis);
     std::vector<Eigen::Vector3d> band;
     for (const auto& p : points) {
-      const double from_far = axis.far - (p - axis.origin).dot(axis.direction);
-      if (from_far >= c.handle_near && from_far <= c.handle_far) band.push_back(p);
+      const Eigen::Vector3d d = p - axis.origin;
+      const double along = d.dot(axis.direction), from_far = axis.far - along;
+      if (from_far >= c.handle_near && from_far <= c.handle_far &&
+          (pass == 0 || (d - along * axis.direction).norm() <= c.handle_trim))
+        band.push_back(p);
     }
     if (band.size() < kMinPoints) break;
     const Eigen::Vector3d direction = principal_direction(band, axis.origin);
@@ -50,6 +53,15 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
   }
   set_extremes(points, axis);
   return axis;
+}
+
+// The points outside the hand's box.
+std::vector<Eigen::Vector3d> tool_points(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& c) {
+  std::vector<Eigen::Vector3d> tool;
+  for (const auto& p : points)
+    if (((p - c.hand_min).array() < -c.hand_margin).any() || ((p - c.hand_max).array() > c.hand_margin).any())
+      tool.push_back(p);
+  return tool;
 }
 
 int bin(double value, double step, int bins) { return std::clamp(static_cast<int>(std::floor(value / step)), 0, bins - 1); }
@@ -60,12 +72,15 @@ int depth_shape_dimension(const DepthShapeConfig& c) {
   return kExtents + c.head_bins * c.radial_bins + c.head_bins * c.footprint_bins * c.footprint_depth_bins;
 }
 
+std::optional<Eigen::Vector3d> depth_shape_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& c) {
+  const std::vector<Eigen::Vector3d> tool = tool_points(points, c);
+  if (tool.size() < kMinPoints) return std::nullopt;
+  return handle_axis(tool, c).direction;
+}
+
 Eigen::VectorXd depth_shape(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& c) {
   Eigen::VectorXd block = Eigen::VectorXd::Zero(depth_shape_dimension(c));
-  std::vector<Eigen::Vector3d> tool;
-  for (const auto& p : points)
-    if (((p - c.hand_min).array() < -c.hand_margin).any() || ((p - c.hand_max).array() > c.hand_margin).any())
-      tool.push_back(p);
+  const std::vector<Eigen::Vector3d> tool = tool_points(points, c);
   if (tool.size() < kMinPoints) return block;
   const Axis axis = handle_axis(tool, c);
   // The head in cylindrical-like coordinates: distance from the far end, and the 2D offset across.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 namespace toolinc {
@@ -21,13 +22,19 @@ struct DepthShapeConfig {
   // long, the hand holds the last 5-10 cm).
   double handle_near = 0.10;  // m
   double handle_far = 0.16;   // m
+  // After a first estimate, the band keeps only its points this close to the axis: a handle is 1-3 cm
+  // thick, and what lies farther (a shovel's 10 cm blade reaching into the band, fingers, a view that
+  // sees the head's face and only a sliver of the handle) is not handle and would tilt it (issue 18:
+  // shovels' axes 12-44 degrees off without it).
+  double handle_trim = 0.02;  // m
   // The head: the points within head_length of the far end, binned along the handle in head_bins and
   // across it in steps of across_step.
   double head_length = 0.12;  // m
   int head_bins = 4;          // along the handle
   double across_step = 0.02;  // m (2 handle diameters: a tooth, a bar)
   int radial_bins = 6;        // distance from the handle's axis, the last bin takes everything beyond
-  int footprint_bins = 8;     // across the head's main direction, signed (half each side)
+  int footprint_bins = 12;    // across the head's main direction, signed: half each side, 12 cm, so that
+                              // what reaches farthest (a hook's return 11 cm out) has bins of its own
   int footprint_depth_bins = 4;  // across the head's second direction, unsigned
   double unit = 0.1;          // m, the extents are measured in (about a tool head's size)
 };
@@ -37,7 +44,8 @@ int depth_shape_dimension(const DepthShapeConfig& config);
 
 // Unit-norm block from the blob's points in the hand frame (m; the hand's points are dropped):
 //  - the handle's axis: the principal axis of the points between handle_near and handle_far from the far
-//    end (the end away from the hand), found from the whole tool's principal axis and refined 3 times;
+//    end (the end away from the hand), found from the whole tool's principal axis and refined 5 times,
+//    from the second time on only from the band's points within handle_trim of the previous axis;
 //  - the head, the points within head_length of the far end, in cylindrical coordinates about that axis:
 //    6 extents (/ unit): the head centroid's distance from the axis, the head's two standard deviations
 //    across the axis and its one along it, its farthest point from the axis, the tool's length / 3;
@@ -48,5 +56,9 @@ int depth_shape_dimension(const DepthShapeConfig& config);
 //  histograms as square-rooted shares. A turn about the handle changes none of it. Fewer than 20 points
 // (no disparity, an image without depth, no hand pose): zeros.
 Eigen::VectorXd depth_shape(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& config);
+
+// The handle's axis that block is described about (unit, towards the far end); none with fewer than 20
+// points outside the hand.
+std::optional<Eigen::Vector3d> depth_shape_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& config);
 
 }  // namespace toolinc

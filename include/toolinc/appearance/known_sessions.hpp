@@ -16,9 +16,13 @@ struct KnownSessions {
   Eigen::Index start = 0, size = 0;  // the columns compared (the builtin descriptor's "depth" block)
   std::vector<std::size_t> labels;   // per session, an index into the classifier's labels
   Eigen::MatrixXd means;             // per session (row) the mean of those columns over its views
+  Eigen::RowVectorXd scale;          // per column, what distances are measured in (known_sessions)
 };
 
-// From training rows (x, targets as for train_rls), groups: per row its session.
+// From training rows (x, targets as for train_rls), groups: per row its session. Distances are measured
+// with each column divided by its spread between sessions of one label (the root of the pooled variance,
+// plus the mean variance of all columns, which keeps a column steady in training from weighing without
+// bound); ones when no label has two sessions.
 KnownSessions known_sessions(const Eigen::MatrixXd& x, const std::vector<std::size_t>& targets,
                              const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size);
 
