@@ -70,7 +70,10 @@ int main(int argc, char** argv) {
                      "classifier's)"),
       cli.add_option("--max-distance", decision.max_distance,
                      "classify: a whole session whose depth block lies farther than this from every training "
-                     "session of its answer is unknown (default: the classifier's)")};
+                     "session of its answer is unknown (default: the classifier's)"),
+      cli.add_option("--sure-score", decision.sure_score,
+                     "classify: a whole session whose best score is above this is its answer however far it lies "
+                     "(default: the classifier's)")};
 
   g_args.assign(argv + 1, argv + argc);
   return command.run(argc, argv, [&] {
@@ -101,6 +104,7 @@ int main(int argc, char** argv) {
     if (cli.count("--min-score")) thresholds.min_score = decision.min_score;
     if (cli.count("--min-margin")) thresholds.min_margin = decision.min_margin;
     if (cli.count("--max-distance")) thresholds.max_distance = decision.max_distance;
+    if (cli.count("--sure-score")) thresholds.sure_score = decision.sure_score;
     const auto result = toolinc::classify_appearance(classifier, classifier_path, input, thresholds);
     spdlog::info("{} (best score {:.3f}, margin {:.3f})", result["label"].get<std::string>(),
                  result["best_score"].get<double>(), result["margin"].get<double>());

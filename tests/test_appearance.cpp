@@ -418,9 +418,28 @@ TEST(AppearanceDecision, UnknownFloorBoundsKnownRejection) {
     EXPECT_LE(decision.min_score, DecisionConfig{}.min_score);  // never above the default
   }
   Json summary;
+  // The sure score: the best mean score of a session from the classifier trained without its label,
+  // recomputed here label by label.
+  double never_seen = -std::numeric_limits<double>::infinity();
+  for (std::size_t out = 0; out < names.size(); ++out) {
+    std::vector<Eigen::Index> in_rows;
+    std::vector<std::size_t> in_targets;
+    std::map<std::size_t, std::vector<Eigen::Index>> out_sessions;
+    for (std::size_t i = 0; i < targets.size(); ++i)
+      if (targets[i] == out) out_sessions[groups[i]].push_back(static_cast<Eigen::Index>(i));
+      else in_rows.push_back(static_cast<Eigen::Index>(i)), in_targets.push_back(targets[i] - (targets[i] > out));
+    std::vector<std::string> others = names;
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(out));
+    const RlsModel without = train_rls(x(in_rows, Eigen::all), in_targets, others);
+    for (const auto& [group, rows] : out_sessions)
+      never_seen = std::max(never_seen, rls_scores(without, x(rows, Eigen::all)).colwise().mean().maxCoeff());
+  }
+  EXPECT_NEAR(calibrate_decision(x, targets, names, groups, true, model, {}, {0.05}, summary).sure_score, never_seen, 1e-9);
   EXPECT_THROW(calibrate_decision(x, targets, names, groups, true, model, {}, {1.0}, summary), std::invalid_argument);
-  // Not from sessions: the defaults.
-  EXPECT_EQ(calibrate_decision(x, targets, names, groups, false, model, {}, {}, summary).min_score, DecisionConfig{}.min_score);
+  // Not from sessions: the defaults (no sure score).
+  const DecisionConfig uncalibrated = calibrate_decision(x, targets, names, groups, false, model, {}, {}, summary);
+  EXPECT_EQ(uncalibrated.min_score, DecisionConfig{}.min_score);
+  EXPECT_EQ(uncalibrated.sure_score, std::numeric_limits<double>::infinity());
 }
 
 // Known sessions: each session's mean of the compared columns, the columns' spread between sessions of one
@@ -503,6 +522,7 @@ void tally(const AppearanceClassifier& classifier, const std::vector<std::string
     const std::string expected = truth.empty() ? *read_session(dir).tool_label : truth;
     for (const auto& sample : result["per_sample"]) ++t.views, t.views_right += sample["label"] == expected;
     ++t.sessions, t.sessions_right += result["label"] == expected;
+    if (std::getenv("ZZ") && result.contains("distance")) std::fprintf(stderr, "ZZ %s %d %.3f %.3f %.3f %.3f\n", truth == kUnknownLabel ? "U" : "K", int(result["label"] == expected), result["distance"].get<double>(), result["max_distance"].get<double>(), result["best_score"].get<double>(), result["margin"].get<double>());
   }
 }
 
@@ -520,8 +540,8 @@ AppearanceClassifier train_on(const std::vector<std::string>& dirs) {
 // these seeds (set 0); on five other seed sets 94.0 % of views grey, 93.3 % palette, so the issue's
 // floors are asserted (not the 100 % of these seeds).
 // known_floor: the sessions the classifier must still answer right with its own unknown rules (the
-// floor and the distance to the known sessions, the default users get): 11/12 measured for each way of
-// painting, asserted.
+// floor, and the distance to the known sessions unless the score is sure: the default users get): 11/12
+// measured for grey and palette tools, 12/12 in family colours, asserted.
 void expect_recognised(Paint paint, double view_floor, int session_floor, int known_floor) {
   const AppearanceClassifier classifier = train_on(sessions(kTools, kTrainGrasps, paint));
   ASSERT_EQ(classifier.model.labels.size(), kTools.size());
@@ -543,8 +563,8 @@ TEST(AppearanceAccuracy, SameColouredToolsToldApartByShape) { expect_recognised(
 TEST(AppearanceAccuracy, PaletteColouredToolsRecognised) { expect_recognised(Paint::palette, 0.95, 11, 11); }
 
 // Each family its own colour, as the simulator painted tools before issue 18: what users had must not
-// regress; with the default unknown rules one session of 12 is turned away (the distance rule).
-TEST(AppearanceAccuracy, FamilyColouredToolsRecognised) { expect_recognised(Paint::family, 0.95, 12, 11); }
+// regress, with the default unknown rules too (colour makes the scores sure: the distance turns none away).
+TEST(AppearanceAccuracy, FamilyColouredToolsRecognised) { expect_recognised(Paint::family, 0.95, 12, 12); }
 
 // Each family in turn left out of training: its five grasps should be answered unknown (issue 18: >= 80 %
 // of sessions), while the other families' test grasps are still recognised (issue 18: >= 90 %), with the
@@ -571,20 +591,20 @@ std::pair<Tally, Tally> leave_family_out(Paint paint) {
 }
 
 // Issue 18 asks for >= 80 % of the left-out sessions unknown with >= 90 % of the known right. Measured
-// (README) with the classifier's own rules (the floor on the best score, and the distance from every
-// training session of the answer, each column of the depth block in units of its spread between the
-// training grasps of one tool, beyond the largest distance from a training session to its nearest
-// sibling): each family its own colour, unknown 30/30, known 51/60 (85 %); palette colours, unknown
-// 27/30, known 51/60. On five other seed sets: see the README.
-// Asserted: the issue's 80 % unknown for both (met); for the known, regression floors about 1.5 binomial
-// standard deviations below what is measured (60 sessions: sd 4.6 %).
+// (README) with the classifier's own rules (the floor on the best score; the distance from every training
+// session of the answer, each column of the depth block in units of its spread between the training
+// grasps of one tool, beyond the largest distance from a training session to its nearest sibling; unless
+// the best score is above any a tool never seen got in training): each family its own colour, unknown
+// 27/30, known 60/60; palette colours, unknown 25/30, known 54/60. On five other seed sets: see the README.
+// Asserted: the issue's 80 % unknown for both and its 90 % known with family colours (met); the palette's
+// known, 54/60 on the mark, a regression floor about 1.5 binomial standard deviations below (sd 3.9 %).
 TEST(AppearanceAccuracy, FamilyLeftOutAnsweredUnknown) {
   const auto [family_unknown, family_known] = leave_family_out(Paint::family);
   EXPECT_GE(family_unknown.session_rate(), 0.80);
-  EXPECT_GE(family_known.session_rate(), 0.78);
+  EXPECT_GE(family_known.session_rate(), 0.90);
   const auto [palette_unknown, palette_known] = leave_family_out(Paint::palette);
   EXPECT_GE(palette_unknown.session_rate(), 0.80);
-  EXPECT_GE(palette_known.session_rate(), 0.78);
+  EXPECT_GE(palette_known.session_rate(), 0.84);
 }
 
 // Ablation on the same crops: the classifier trained on the shape blocks, on the colour block, and on both,
@@ -794,11 +814,23 @@ TEST(AppearanceCli, TrainThenClassifySessionImageAndFeatures) {
   const auto file = (dir / "result.json").string();
   ASSERT_EQ(run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " -o " + file).exit_code, 0);
   EXPECT_EQ(slurp(file), run.out);
-  // A session nearer no training session of its answer than --max-distance is a tool never seen.
-  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session + " --max-distance 0 -o -");
+  // A session nearer no training session of its answer than --max-distance is a tool never seen, unless
+  // it scores above --sure-score (the classifier's: the highest score a session got from the classifier
+  // trained without its label).
+  ASSERT_TRUE(json["decision"].contains("sure_score"));
+  const double sure = json["decision"]["sure_score"].get<double>();
+  EXPECT_EQ(result["sure_score"].get<double>(), sure);
+  run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session +
+                                         " --max-distance 0 --sure-score 1e9 -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(Json::parse(run.out)["label"], kUnknownLabel);
   EXPECT_EQ(Json::parse(run.out)["max_distance"], 0.0);
+  for (const double given : {result["best_score"].get<double>() - 0.01, result["best_score"].get<double>() + 0.01}) {
+    run = run_tool("learn-appearance", "classify --classifier " + classifier + " --session " + test_session +
+                                           " --max-distance 0 --sure-score " + fmt::format("{}", given) + " -o -");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_EQ(Json::parse(run.out)["label"], given < result["best_score"].get<double>() ? "rake" : kUnknownLabel) << given;
+  }
 
   // One view, then the same crop as an image and a box (the view's blob box: the crop adds the margin;
   // the blob is then estimated from the crop, not read from blob.png).

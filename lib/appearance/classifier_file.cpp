@@ -42,6 +42,7 @@ Json classifier_json(const AppearanceClassifier& classifier, const Json& trainin
                  decision["min_score"] = classifier.decision.min_score;
                  decision["min_margin"] = classifier.decision.min_margin;
                  if (std::isfinite(classifier.decision.max_distance)) decision["max_distance"] = classifier.decision.max_distance;
+                 if (std::isfinite(classifier.decision.sure_score)) decision["sure_score"] = classifier.decision.sure_score;
                  return decision;
                }()},
               {"training", training},
@@ -91,6 +92,11 @@ AppearanceClassifier read_classifier(const std::string& path, const std::string&
         throw InputError(path, "decision: \"max_distance\" must be a number >= 0");
       if (!json.contains("known_sessions")) throw InputError(path, "decision: \"max_distance\" without \"known_sessions\"");
       decision.max_distance = summary["max_distance"].get<double>();
+    }
+    if (summary.contains("sure_score")) {
+      if (!summary["sure_score"].is_number() || !std::isfinite(summary["sure_score"].get<double>()))
+        throw InputError(path, "decision: \"sure_score\" must be a finite number");
+      decision.sure_score = summary["sure_score"].get<double>();
     }
   }
   std::optional<KnownSessions> known;

@@ -205,7 +205,8 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
   const Eigen::MatrixXd features = stack(rows);
   Json result = classification_json(labels, rls_scores(classifier.model, features), std::move(samples), decision, context);
   // A whole session whose head lies farther from every training session of its answer than any training
-  // session lies from its nearest sibling is a tool never seen (known_sessions.hpp).
+  // session lies from its nearest sibling is a tool never seen (known_sessions.hpp), unless it scores
+  // higher than any tool never seen did in training.
   const auto answer = std::find(labels.begin(), labels.end(), result["label"].get<std::string>());
   if (classifier.known && !input.session.empty() && !input.view && std::isfinite(decision.max_distance) &&
       answer != labels.end()) {
@@ -213,7 +214,9 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
     const double distance = distance_to_label(*classifier.known, features, label);
     result["distance"] = distance;
     result["max_distance"] = decision.max_distance;
-    if (distance > decision.max_distance) result["label"] = kUnknownLabel;
+    if (std::isfinite(decision.sure_score)) result["sure_score"] = decision.sure_score;
+    if (distance > decision.max_distance && !(result["best_score"].get<double>() > decision.sure_score))
+      result["label"] = kUnknownLabel;
   }
   return result;
 }

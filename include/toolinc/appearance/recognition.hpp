@@ -19,11 +19,13 @@ constexpr int kClassificationVersion = 1;
 // score is below 0 looks more like "none of these" than like its best label; a margin of 0.1 (5% of
 // that range) leaves near-ties undecided.
 // max_distance: a whole session is also unknown when its depth block lies farther than this from every
-// training session of its answer (known_sessions.hpp; infinite: not checked).
+// training session of its answer (known_sessions.hpp; infinite: not checked), unless its best score is
+// above sure_score (higher than any tool never seen scored in training; infinite: never).
 struct DecisionConfig {
   double min_score = 0.0;
   double min_margin = 0.1;
   double max_distance = std::numeric_limits<double>::infinity();
+  double sure_score = std::numeric_limits<double>::infinity();
 };
 
 struct Decision {
