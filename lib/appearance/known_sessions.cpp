@@ -32,6 +32,11 @@ Eigen::RowVectorXd spread_scale(const KnownSessions& known) {
   return (variance.array() + variance.mean()).rsqrt().matrix();
 }
 
+// Distance between two rows of the compared columns, each column in its own unit (scale).
+double scaled_distance(const KnownSessions& known, const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
+  return (a - b).cwiseProduct(known.scale).norm();
+}
+
 }  // namespace
 
 KnownSessions known_sessions(const Eigen::MatrixXd& x, const std::vector<std::size_t>& targets,
@@ -55,7 +60,7 @@ double sibling_radius(const KnownSessions& known) {
     double nearest = std::numeric_limits<double>::infinity();
     for (Eigen::Index o = 0; o < known.means.rows(); ++o)
       if (o != s && known.labels[static_cast<std::size_t>(o)] == known.labels[static_cast<std::size_t>(s)])
-        nearest = std::min(nearest, (known.means.row(o) - known.means.row(s)).cwiseProduct(known.scale).norm());
+        nearest = std::min(nearest, scaled_distance(known, known.means.row(o), known.means.row(s)));
     if (std::isfinite(nearest)) radius = std::max(radius, nearest);
   }
   return std::isfinite(radius) ? radius : std::numeric_limits<double>::infinity();
@@ -65,8 +70,7 @@ double distance_to_label(const KnownSessions& known, const Eigen::MatrixXd& rows
   const Eigen::RowVectorXd mean = rows.middleCols(known.start, known.size).colwise().mean();
   double nearest = std::numeric_limits<double>::infinity();
   for (Eigen::Index s = 0; s < known.means.rows(); ++s)
-    if (known.labels[static_cast<std::size_t>(s)] == label)
-      nearest = std::min(nearest, (known.means.row(s) - mean).cwiseProduct(known.scale).norm());
+    if (known.labels[static_cast<std::size_t>(s)] == label) nearest = std::min(nearest, scaled_distance(known, known.means.row(s), mean));
   return nearest;
 }
 
