@@ -522,7 +522,6 @@ void tally(const AppearanceClassifier& classifier, const std::vector<std::string
     const std::string expected = truth.empty() ? *read_session(dir).tool_label : truth;
     for (const auto& sample : result["per_sample"]) ++t.views, t.views_right += sample["label"] == expected;
     ++t.sessions, t.sessions_right += result["label"] == expected;
-    if (std::getenv("ZZ") && result.contains("distance")) std::fprintf(stderr, "ZZ %s %d %.3f %.3f %.3f %.3f\n", truth == kUnknownLabel ? "U" : "K", int(result["label"] == expected), result["distance"].get<double>(), result["max_distance"].get<double>(), result["best_score"].get<double>(), result["margin"].get<double>());
   }
 }
 
