@@ -288,6 +288,29 @@ TEST(AppearanceDepth, HandleAxisFollowsTheHandleNotTheHead) {
   EXPECT_GE(shovel_within, 0.8 * shovel_views);
 }
 
+// A view down the handle sees only the head's face: a hoe's blade face, 10.5 x 8 cm, 26 cm from the hand,
+// the handle hidden behind it. The face's own principal axis lies across the handle; the line fitted to
+// it passes 26 cm from the hand, which does not hold it, so the axis is the line from the hand through
+// the tool's centroid: within atan((4 cm blade offset + 3.6 cm grasp offset) / 26 cm) = 16 degrees.
+TEST(AppearanceDepth, HandleHiddenBehindTheHeadAxisFromTheHand) {
+  const Eigen::Matrix3d grasp = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Vector3d offset(0.03, 0.0, 0.02), handle = -grasp.col(1);  // canonical -Y: towards the far end
+  std::vector<Eigen::Vector3d> face;
+  for (double x = -0.01; x <= 0.095; x += 0.002)
+    for (double z = -0.04; z <= 0.04; z += 0.002) face.push_back(grasp * Eigen::Vector3d(x, -0.26, z) + offset);
+  const auto degrees_off = [&](const DepthShapeConfig& config) {
+    const auto axis = depth_shape_axis(face, config);
+    return axis ? std::acos(std::min(1.0, axis->dot(handle))) * 180 / M_PI : 180.0;
+  };
+  DepthShapeConfig unheld;  // the rule off: the axis lies in the face
+  unheld.grasp_reach = 1.0;
+  const double held = degrees_off(DepthShapeConfig{}), face_only = degrees_off(unheld);
+  std::cout << "handle hidden: axis " << held << " degrees off (" << face_only << " from the face alone)\n";
+  EXPECT_LT(held, 16.0);
+  EXPECT_GT(face_only, 60.0);
+}
+
 TEST(AppearanceBuiltin, EstimatedBlobOverlapsTheRecordedOne) {
   for (const Paint paint : {Paint::grey, Paint::palette})
     for (const auto family : {ToolFamily::rake, ToolFamily::l_stick}) {

@@ -187,7 +187,7 @@ void check(const BuiltinFeatureConfig& c) {
       c.saturation_bins <= 0 || c.size % c.cell != 0 || c.coarse_size % c.cell != 0 || c.coarse_size / c.cell < c.block ||
       c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1) || d.head_bins <= 0 || d.radial_bins <= 0 ||
       d.footprint_bins <= 0 || d.footprint_depth_bins <= 0 || !(d.unit > 0) || !(d.across_step > 0) ||
-      !(d.head_length > 0) || !(d.hand_margin >= 0) || !(d.handle_trim > 0) || !(d.handle_near >= 0 && d.handle_far > d.handle_near) ||
+      !(d.head_length > 0) || !(d.hand_margin >= 0) || !(d.handle_trim > 0) || !(d.grasp_reach > 0) || !(d.handle_near >= 0 && d.handle_far > d.handle_near) ||
       !(d.hand_min.array() < d.hand_max.array()).all())
     throw std::invalid_argument(fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px "
                                             "cells, or the head share {} is not in (0, 1] (or the depth block's parameters "
@@ -264,6 +264,7 @@ Json to_json(const BuiltinFeatureConfig& c) {
             {"handle_near_m", c.depth.handle_near},
             {"handle_far_m", c.depth.handle_far},
             {"handle_trim_m", c.depth.handle_trim},
+            {"grasp_reach_m", c.depth.grasp_reach},
             {"head_length_m", c.depth.head_length},
             {"head_bins", c.depth.head_bins},
             {"across_step_m", c.depth.across_step},
@@ -304,6 +305,7 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
   for (const auto& [key, value] : {std::pair<const char*, double*>{"hand_margin_m", &c.depth.hand_margin},
                                    {"handle_near_m", &c.depth.handle_near}, {"handle_far_m", &c.depth.handle_far},
                                    {"handle_trim_m", &c.depth.handle_trim},
+                                   {"grasp_reach_m", &c.depth.grasp_reach},
                                    {"head_length_m", &c.depth.head_length}, {"across_step_m", &c.depth.across_step},
                                    {"unit_m", &c.depth.unit}}) {
     const Json& number = depth.value(key, Json());

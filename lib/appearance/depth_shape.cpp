@@ -51,6 +51,15 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
     const Eigen::Vector3d direction = principal_direction(band, axis.origin);
     axis.direction = direction.dot(axis.direction) < 0 ? -direction : direction;
   }
+  // The hand holds the handle, so its line passes near the hand. A line farther away was fitted to the
+  // head alone (a view down the handle, the handle hidden behind the head): the line from the hand
+  // through the tool's centroid is then the better guess (issue 18: 63-90 degrees off -> 2-20).
+  const Eigen::Vector3d from_hand = axis.origin - axis.origin.dot(axis.direction) * axis.direction;
+  if (from_hand.norm() > c.grasp_reach) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto& p : points) centroid += p;
+    axis.origin = Eigen::Vector3d::Zero(), axis.direction = centroid.normalized();
+  }
   set_extremes(points, axis);
   return axis;
 }

@@ -34,7 +34,7 @@ namespace toolinc {
 // Which descriptor a classifier file's "builtin" extractor is: files without it predate the shape
 // descriptor (colour HOG and a hue histogram), earlier versions have other blocks (3: a depth block in
 // the camera frame); both are refused with a request to retrain.
-constexpr int kBuiltinDescriptorVersion = 5;
+constexpr int kBuiltinDescriptorVersion = 6;
 
 struct BuiltinFeatureConfig {
   int size = 64;             // px side of the normalised window; a multiple of cell

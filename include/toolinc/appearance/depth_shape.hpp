@@ -27,6 +27,9 @@ struct DepthShapeConfig {
   // sees the head's face and only a sliver of the handle) is not handle and would tilt it (issue 18:
   // shovels' axes 12-44 degrees off without it).
   double handle_trim = 0.02;  // m
+  // The handle's line passes this close to the hand's origin: the fingers hold it, and the original's
+  // grasp check accepts the tool 10 cm from the hand at most along each axis.
+  double grasp_reach = 0.10;  // m
   // The head: the points within head_length of the far end, binned along the handle in head_bins and
   // across it in steps of across_step.
   double head_length = 0.12;  // m
@@ -45,7 +48,9 @@ int depth_shape_dimension(const DepthShapeConfig& config);
 // Unit-norm block from the blob's points in the hand frame (m; the hand's points are dropped):
 //  - the handle's axis: the principal axis of the points between handle_near and handle_far from the far
 //    end (the end away from the hand), found from the whole tool's principal axis and refined 5 times,
-//    from the second time on only from the band's points within handle_trim of the previous axis;
+//    from the second time on only from the band's points within handle_trim of the previous axis; a
+//    line passing farther than grasp_reach from the hand is the head's, and the line from the hand
+//    through the tool's centroid replaces it;
 //  - the head, the points within head_length of the far end, in cylindrical coordinates about that axis:
 //    6 extents (/ unit): the head centroid's distance from the axis, the head's two standard deviations
 //    across the axis and its one along it, its farthest point from the axis, the tool's length / 3;
