@@ -203,6 +203,32 @@ TEST(AppearanceCrops, SessionCropsHoldTheBlob) {
   EXPECT_THROW(session_crops(dir, info, 99), InputError);
 }
 
+// A view in which the blob detector found nothing is skipped; asked for alone, or with no view left, it
+// is an error naming the file.
+TEST(AppearanceCrops, ViewsWithoutABlobSkipped) {
+  const fs::path dir = fs::temp_directory_path() / ("toolinc-appearance-noblob-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::copy(session(ToolFamily::hoe, 0), dir, fs::copy_options::recursive);
+  SessionInfo info = read_session(dir.string());
+  const auto drop_blob = [&](std::size_t view) {
+    fs::remove(dir / info.views[view].dir / "blob.png");
+    info.views[view].blob.reset();
+  };
+  drop_blob(1);
+  const auto crops = session_crops(dir.string(), info);
+  ASSERT_EQ(crops.size(), info.views.size() - 1);
+  for (const auto& crop : crops) EXPECT_NE(crop.view, 1u);
+  EXPECT_THROW(session_crops(dir.string(), info, 1), InputError);
+  for (std::size_t view = 0; view < info.views.size(); ++view) drop_blob(view);
+  try {
+    session_crops(dir.string(), info);
+    ADD_FAILURE() << "a session without any blob was cropped";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("session.json"), std::string::npos) << error.what();
+  }
+  fs::remove_all(dir);
+}
+
 const FeatureBlock& block(const std::vector<FeatureBlock>& blocks, const std::string& name) {
   return *std::find_if(blocks.begin(), blocks.end(), [&](const FeatureBlock& b) { return b.name == name; });
 }

@@ -1,6 +1,7 @@
 #include "toolinc/appearance/crops.hpp"
 
 #include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
 
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -87,10 +88,19 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
     const ViewData data = read_view(session_dir, session, i);
     const auto view_file = (std::filesystem::path(session_dir) / session.views[i].dir / "view.json").string();
     const auto crop = view_crop_box(data, session.views[i]);
-    if (!crop) throw InputError(view_file, "no blob inside the image (neither blob.png nor a blob roi) to crop the tool from");
+    if (!crop) {
+      // The blob detector finds nothing in some views (no disparity on a textureless tool): such a view
+      // shows nothing to recognise, and the session's other views still do.
+      if (view) throw InputError(view_file, "no blob inside the image (neither blob.png nor a blob roi) to crop the tool from");
+      spdlog::warn("{}: no blob inside the image (neither blob.png nor a blob roi): view skipped", view_file);
+      continue;
+    }
     crops.push_back({i, *crop, data.left(*crop).clone(), data.blob.empty() ? cv::Mat() : data.blob(*crop).clone(),
                      blob_points(data, session.camera, session.views[i])});
   }
+  if (crops.empty())
+    throw InputError((std::filesystem::path(session_dir) / "session.json").string(),
+                     "no view has a blob inside its image (neither blob.png nor a blob roi) to crop the tool from");
   return crops;
 }
 

@@ -53,7 +53,7 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
   }
   // The hand holds the handle, so its line passes near the hand. A line farther away was fitted to the
   // head alone (a view down the handle, the handle hidden behind the head): the line from the hand
-  // through the tool's centroid is then the better guess (issue 18: 63-90 degrees off -> 2-20).
+  // through the tool's centroid is then the better guess (issue 18: 43-90 degrees off -> 2-20).
   const Eigen::Vector3d from_hand = axis.origin - axis.origin.dot(axis.direction) * axis.direction;
   if (from_hand.norm() > c.grasp_reach) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();

@@ -38,8 +38,9 @@ struct ViewCrop {
 
 // The crops of every view of a session (or only of `view`). The blob's bounding box comes from blob.png
 // where present (the tight box of the mask); otherwise from view.json's blob roi, which is dispBlobber's
-// box and already holds the detector's margin, so it is used as recorded. Throws InputError naming the
-// file when a view has neither, or `view` does not exist.
+// box and already holds the detector's margin, so it is used as recorded. A view with neither is
+// skipped with a warning naming it. Throws InputError naming the file when `view` has neither or does
+// not exist, or when no view of the session has a blob.
 std::vector<ViewCrop> session_crops(const std::string& session_dir, const SessionInfo& session,
                                     std::optional<std::size_t> view = std::nullopt);
 
