@@ -65,10 +65,20 @@ std::uint32_t seed_set() {
   return set;
 }
 
+// The stereo the simulated sessions use: ideal unless TOOLINC_APPEARANCE_STEREO=sgbm names the robot's
+// (README: how recognition fares on it; the assertions hold for ideal).
+StereoModel stereo() {
+  static const StereoModel model = [] {
+    const char* text = std::getenv("TOOLINC_APPEARANCE_STEREO");
+    return text ? stereo_model_from_string(text) : StereoModel::ideal;
+  }();
+  return model;
+}
+
 // A simulated session of the family held in its grasp-th random grasp, written once per test run.
 fs::path session(ToolFamily family, int grasp, Paint paint = Paint::family) {
-  static const fs::path root =
-      fs::temp_directory_path() / ("toolinc-appearance-" + std::to_string(::getpid()) + "-" + std::to_string(seed_set()));
+  static const fs::path root = fs::temp_directory_path() / ("toolinc-appearance-" + std::to_string(::getpid()) + "-" +
+                                                            std::to_string(seed_set()) + "-" + to_string(stereo()));
   const fs::path dir = root / (to_string(family) + "-" + std::to_string(grasp) + "-" + to_string(paint));
   if (fs::exists(dir)) return dir;
   SessionSimulatorConfig config;
@@ -81,6 +91,7 @@ fs::path session(ToolFamily family, int grasp, Paint paint = Paint::family) {
   Rng rng(config.seed);
   config.hand_from_canonical = random_grasp({}, rng);
   config.write_points = false;
+  config.stereo = stereo();
   const SimulatedSession simulated = simulate_session(config);
   fs::create_directories(root);
   write_session(dir.string(), simulated.info, simulated.views, simulated.ground_truth);
