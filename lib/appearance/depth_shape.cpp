@@ -58,7 +58,7 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
   if (from_hand.norm() > c.grasp_reach) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (const auto& p : points) centroid += p;
-    axis.origin = Eigen::Vector3d::Zero(), axis.direction = centroid.normalized();
+    if (centroid.squaredNorm() > 0) axis.origin = Eigen::Vector3d::Zero(), axis.direction = centroid.normalized();
   }
   set_extremes(points, axis);
   return axis;
