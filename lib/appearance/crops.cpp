@@ -47,6 +47,8 @@ void check_box_inside(const cv::Rect& box, const cv::Size& image, const std::str
 
 namespace {
 
+constexpr const char* kNoBlob = "no blob inside the image (neither blob.png nor a blob roi)";
+
 // The crop of a view: the tight box of the blob mask plus our margin, or else the recorded roi
 // (inclusive corners), which already holds the detector's margin; clipped to the image.
 std::optional<cv::Rect> view_crop_box(const ViewData& data, const ViewRecord& record) {
@@ -91,8 +93,8 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
     if (!crop) {
       // The blob detector finds nothing in some views (no disparity on a textureless tool): such a view
       // shows nothing to recognise, and the session's other views still do.
-      if (view) throw InputError(view_file, "no blob inside the image (neither blob.png nor a blob roi) to crop the tool from");
-      spdlog::warn("{}: no blob inside the image (neither blob.png nor a blob roi): view skipped", view_file);
+      if (view) throw InputError(view_file, std::string(kNoBlob) + " to crop the tool from");
+      spdlog::warn("{}: {}: view skipped", view_file, kNoBlob);
       continue;
     }
     crops.push_back({i, *crop, data.left(*crop).clone(), data.blob.empty() ? cv::Mat() : data.blob(*crop).clone(),
@@ -100,7 +102,7 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
   }
   if (crops.empty())
     throw InputError((std::filesystem::path(session_dir) / "session.json").string(),
-                     "no view has a blob inside its image (neither blob.png nor a blob roi) to crop the tool from");
+                     fmt::format("every view: {} to crop the tool from", kNoBlob));
   return crops;
 }
 
