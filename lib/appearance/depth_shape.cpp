@@ -35,7 +35,9 @@ void set_extremes(const std::vector<Eigen::Vector3d>& points, Axis& axis) {
 // The whole tool's principal axis, pointing away from the hand (the origin), then the handle band's.
 Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& c) {
   Axis axis;
-  axis.direction = principal_direction(points, axis.origin);
+  Eigen::Vector3d centroid;  // the whole tool's, kept for the hand check below
+  axis.direction = principal_direction(points, centroid);
+  axis.origin = centroid;
   if (axis.origin.dot(axis.direction) < 0) axis.direction = -axis.direction;
   for (int pass = 0; pass < kAxisRefinements; ++pass) {
     set_extremes(points, axis);
@@ -55,11 +57,8 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
   // head alone (a view down the handle, the handle hidden behind the head): the line from the hand
   // through the tool's centroid is then the better guess (issue 18: 43-90 degrees off -> 2-20).
   const Eigen::Vector3d from_hand = axis.origin - axis.origin.dot(axis.direction) * axis.direction;
-  if (from_hand.norm() > c.grasp_reach) {
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const auto& p : points) centroid += p;
-    if (centroid.squaredNorm() > 0) axis.origin = Eigen::Vector3d::Zero(), axis.direction = centroid.normalized();
-  }
+  if (from_hand.norm() > c.grasp_reach && centroid.squaredNorm() > 0)
+    axis.origin = Eigen::Vector3d::Zero(), axis.direction = centroid.normalized();
   set_extremes(points, axis);
   return axis;
 }
