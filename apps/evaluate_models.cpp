@@ -18,6 +18,7 @@ namespace {
 
 struct Tally {
   int cases = 0, failed = 0, within_10 = 0, handle_within_3 = 0, left_handed = 0, salient = 0, sign_right = 0;
+  int confident = 0, confident_within_15 = 0;
   std::vector<double> tips;
   double worst_handle = 0.0;
 
@@ -31,6 +32,8 @@ struct Tally {
     within_10 += e.tooltip_m <= 0.010;
     handle_within_3 += e.handle_axis_deg <= 3.0;
     left_handed += !e.right_handed;
+    confident += e.confident;
+    confident_within_15 += e.confident && e.tooltip_m <= 0.015;
     worst_handle = std::max(worst_handle, e.handle_axis_deg);
     if (mirror) ++salient, sign_right += e.effector_sign_right;
   }
@@ -38,10 +41,11 @@ struct Tally {
 
 void print_row(std::FILE* out, const std::string& name, const std::string& detail, const Tally& t) {
   const double worst = t.tips.empty() ? NAN : *std::max_element(t.tips.begin(), t.tips.end());
-  std::fprintf(out, "%-16s %-10s %6d %24s %24s %7.1fmm %7.1fmm %7s\n", name.c_str(), detail.c_str(), t.cases,
+  std::fprintf(out, "%-16s %-10s %6d %24s %24s %7.1fmm %7.1fmm %7s %5d %24s\n", name.c_str(), detail.c_str(), t.cases,
                toolinc::rate_text(t.within_10, t.cases).c_str(), toolinc::rate_text(t.handle_within_3, t.cases).c_str(),
                1000 * toolinc::median(t.tips), 1000 * worst,
-               t.salient ? (std::to_string(t.sign_right) + "/" + std::to_string(t.salient)).c_str() : "-");
+               t.salient ? (std::to_string(t.sign_right) + "/" + std::to_string(t.salient)).c_str() : "-", t.confident,
+               toolinc::rate_text(t.confident_within_15, t.confident).c_str());
 }
 
 toolinc::Json tally_json(const std::string& key, const std::string& name, const Tally& t) {
@@ -55,7 +59,9 @@ toolinc::Json tally_json(const std::string& key, const std::string& name, const 
           {"median_tooltip_m", toolinc::median(t.tips)},
           {"worst_tooltip_m", t.tips.empty() ? NAN : *std::max_element(t.tips.begin(), t.tips.end())},
           {"effector_sign_right", t.sign_right},
-          {"salient_cases", t.salient}};
+          {"salient_cases", t.salient},
+          {"confident", t.confident},
+          {"confident_tooltip_within_15mm", toolinc::rate_json(name, t.confident_within_15, t.confident)}};
 }
 
 }  // namespace
@@ -90,8 +96,9 @@ int main(int argc, char** argv) {
     // The table goes to standard output, unless the JSON does.
     std::FILE* table = command.output() == "-" ? stderr : stdout;
     const auto header = [&](const char* first, const char* second) {
-      std::fprintf(table, "%-16s %-10s %6s %24s %24s %9s %9s %7s\n", first, second, "cases", "tip<=10mm (95% int.)",
-                   "handle<=3deg (95% int.)", "tip med", "tip max", "sign");
+      std::fprintf(table, "%-16s %-10s %6s %24s %24s %9s %9s %7s %5s %24s\n", first, second, "cases",
+                   "tip<=10mm (95% int.)", "handle<=3deg (95% int.)", "tip med", "tip max", "sign", "conf.",
+                   "confident: tip<=15mm");
     };
     header("model", "symmetry");
     toolinc::Json per_model = toolinc::Json::array(), per_kind = toolinc::Json::array();
@@ -106,7 +113,8 @@ int main(int argc, char** argv) {
       Tally tally;
       for (int g = 0; g < grasps; ++g) {
         const Eigen::Matrix4d grasp = toolinc::random_grasp({}, rng);
-        const auto e = toolinc::evaluate_held_tool(model.points, symmetry, grasp, hand_radius, noise, rng,
+        const auto e = toolinc::evaluate_held_tool(model.points, symmetry, toolinc::truth_tip_of_kind(kind), grasp,
+                                                   hand_radius, noise, rng,
                                                    frame_config, tooltip_config);
         if (!e.failure.empty()) spdlog::warn("{} grasp {}: {}", path, g, e.failure);
         tally.add(e, mirror), by_kind[kind].add(e, mirror), all.add(e, mirror);
@@ -126,10 +134,11 @@ int main(int argc, char** argv) {
     }
     print_row(table, "all", "", all);
     std::fprintf(table, "\nall: %d cases, %d failed; right-handed %d/%d; tooltip within 10 mm %s; handle axis within "
-                 "3 deg %s; effector sign right %d of %d salient\n", all.cases, all.failed,
-                 all.cases - all.failed - all.left_handed, all.cases - all.failed,
+                 "3 deg %s; effector sign right %d of %d salient; confident %d, of which tooltip within 15 mm %s\n",
+                 all.cases, all.failed, all.cases - all.failed - all.left_handed, all.cases - all.failed,
                  toolinc::rate_text(all.within_10, all.cases).c_str(),
-                 toolinc::rate_text(all.handle_within_3, all.cases).c_str(), all.sign_right, all.salient);
+                 toolinc::rate_text(all.handle_within_3, all.cases).c_str(), all.sign_right, all.salient, all.confident,
+                 toolinc::rate_text(all.confident_within_15, all.confident).c_str());
     if (!command.output().empty())
       toolinc::write_json(command.output(), {{"type", "model_evaluation"}, {"version", 2}, {"grasps", grasps},
                                              {"seed", seed}, {"noise_m", noise}, {"hand_radius_m", hand_radius},

@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
     if (grasp_seed >= 0) {
       toolinc::Rng rng(static_cast<std::uint32_t>(grasp_seed));
       const Eigen::Matrix4d grasp = toolinc::random_grasp({}, rng);
-      const auto truth = toolinc::tool_ground_truth(cloud.points, toolinc::symmetry_of(chosen.family), grasp);
+      const auto truth = toolinc::tool_ground_truth(cloud.points, toolinc::symmetry_of(chosen.family),
+                                                    toolinc::truth_tip_of(chosen.family), grasp);
       cloud = {toolinc::observe_in_hand(cloud.points, grasp, hand_radius, noise, rng), {}, {}, "hand"};
       if (!truth_file.empty()) toolinc::write_json(truth_file, toolinc::ground_truth_json(truth, chosen));
     } else if (!truth_file.empty()) {

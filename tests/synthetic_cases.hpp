@@ -33,7 +33,7 @@ inline HeldToolCase make_held_tool(ToolFamily family, std::uint32_t seed, const 
   c.model = generate_tool(c.shape, seed);
   c.grasp = random_grasp(range, rng);
   c.observed = observe_in_hand(c.model.points, c.grasp, hand_radius, noise_sigma, rng);
-  c.truth = tool_ground_truth(c.model.points, symmetry_of(family), c.grasp);
+  c.truth = tool_ground_truth(c.model.points, symmetry_of(family), truth_tip_of(family), c.grasp);
   return c;
 }
 

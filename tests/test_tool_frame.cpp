@@ -30,7 +30,8 @@ constexpr int kGraspsPerFamily = 24;
 std::pair<toolinc::testing::HeldToolCase, HeldToolErrors> evaluate_grasp(ToolFamily family, std::uint32_t seed, int g) {
   auto held = make_held_tool(family, seed);
   Rng noise(static_cast<std::uint32_t>(g));
-  const HeldToolErrors e = evaluate_held_tool(held.model.points, symmetry_of(family), held.grasp, 0.06, 0.0015, noise);
+  const HeldToolErrors e = evaluate_held_tool(held.model.points, symmetry_of(family), truth_tip_of(family), held.grasp,
+                                                0.06, 0.0015, noise);
   return {std::move(held), e};
 }
 
@@ -111,7 +112,8 @@ TEST(ToolFrameAccuracy, ScoopsFaceTheirConcaveSideWhereverTheirBellyReaches) {
       for (auto& p : scoop)
         if (p.y() < -held.shape.handle_length) p.x() -= lowered;
       Rng noise(static_cast<std::uint32_t>(g));
-      const HeldToolErrors e = evaluate_held_tool(scoop, ToolSymmetry::mirror, held.grasp, 0.06, 0.0015, noise);
+      const HeldToolErrors e = evaluate_held_tool(scoop, ToolSymmetry::mirror, TruthTip::far_end, held.grasp, 0.06,
+                                                  0.0015, noise);
       ASSERT_TRUE(e.failure.empty()) << e.failure;
       sign_right += e.effector_sign_right;
       within_10mm += e.tooltip_m <= 0.010;
@@ -138,7 +140,7 @@ TEST(ToolFrameAccuracy, BentSticksTakeTheirFarEnd) {
     for (auto& p : bent) p.x() += 0.006 * std::sin(M_PI * p.y() / far_y);
     Rng noise(static_cast<std::uint32_t>(g));
     const Points observed = observe_in_hand(bent, held.grasp, 0.06, 0.0015, noise);
-    const ToolGroundTruth truth = tool_ground_truth(bent, ToolSymmetry::axial, held.grasp);
+    const ToolGroundTruth truth = tool_ground_truth(bent, ToolSymmetry::axial, TruthTip::weighted, held.grasp);
     const ToolFrame frame = estimate_tool_frame(observed);
     const Tooltip tip = find_tooltip(observed, frame);
     sticks += frame.stick;

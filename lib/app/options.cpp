@@ -65,6 +65,12 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(CLI::Range(1.0, 100.0));
   cli.add_option("--salience-min", c.salience_min, "Reach difference that makes an effector side salient (m)")
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--blade-min-aspect", c.blade_min_aspect,
+                 "A blade or scoop reaching along the handle this share of its width continues it: its tip is its far end")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 100.0));
+  cli.add_option("--grasp-reach", c.grasp_reach,
+                 "The handle's axis passes this close to the hand; a farther one makes the frame doubtful (m)")
+      ->capture_default_str()->group(group)->check(positive);
 }
 
 void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {

@@ -23,6 +23,9 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
 constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis under stereo noise
+// m: how far the head's mirror plane may lie off the handle's axis line: a handle axis 6 degrees off
+// (a stereo handle's fit) passes a head 20 cm away 2 cm off its middle.
+constexpr double kMaxPlaneShift = 0.02;
 
 void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud,
                           const PrincipalAxes& axes, const ToolFrameConfig& config) {
@@ -336,6 +339,25 @@ Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle
   return {quantile(forward, q), quantile(backward, q)};
 }
 
+std::string to_string(HeadKind kind) {
+  switch (kind) {
+    case HeadKind::none: return "none";
+    case HeadKind::bar: return "bar";
+    case HeadKind::blade: return "blade";
+    case HeadKind::scoop: return "scoop";
+    case HeadKind::plate: return "plate";
+    case HeadKind::other: break;
+  }
+  return "other";
+}
+
+HeadKind head_kind_from_string(const std::string& name) {
+  for (const HeadKind kind : {HeadKind::none, HeadKind::bar, HeadKind::blade, HeadKind::scoop, HeadKind::plate,
+                              HeadKind::other})
+    if (to_string(kind) == name) return kind;
+  throw std::invalid_argument("unknown head kind '" + name + "' (none, bar, blade, scoop, plate, other)");
+}
+
 Eigen::Matrix4d ToolFrame::hand_from_tool() const {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = axes;
@@ -465,6 +487,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     if (std::abs(to_line) <= 1.5 * step)
       bar = fit_bar(cloud, head, centre, y_axis, normal_at(line->normal_angle), line->offset, handle.radius, config);
     if (bar) {
+      frame.head_kind = HeadKind::bar;
       Vec3 normal = y_axis.cross(bar->axis).normalized();
       if (normal.dot(normal_at(best_angle + to_line)) < 0) normal = -normal;
       best_angle = std::atan2(normal.dot(v), normal.dot(u));
@@ -473,6 +496,12 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     }
   }
   const Vec3 z_normal = normal_at(best_angle);
+  // The head's own mirror plane: a handle axis tilted by a few degrees passes the head off its middle,
+  // so the plane is moved along its normal to where the head mirrors best.
+  if (frame.head_kind != HeadKind::bar && static_cast<int>(head.size()) >= config.min_head_points) {
+    offset = golden_minimum([&](double o) { return scorer.score(z_normal, centre + o * z_normal); }, -kMaxPlaneShift,
+                            kMaxPlaneShift, 12);
+  }
   frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
   frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
   frame.across_handle_score = scorer.score(y_axis, principal.centroid);
@@ -494,11 +523,15 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // A blade or a scoop (a head thinnest along the effector axis, reaching less far along it than it is
   // wide) works with its concave side: when its edges curl to one side, that side is the effector's,
   // whichever reaches farther (a scoop's belly may bulge behind the handle's axis).
-  if (static_cast<int>(head.size()) >= config.min_head_points &&
-      std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg)) {
+  const bool has_head = static_cast<int>(head.size()) >= config.min_head_points;
+  const bool thin_along_x =
+      has_head && std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg);
+  bool curled = false;
+  if (thin_along_x) {
     const Curl curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
     if (std::max(reach.positive, reach.negative) < curl.half_width) frame.head_curl = curl.rise;
     if (std::abs(frame.head_curl) >= config.head_curl_min) {
+      curled = true;
       if (frame.head_curl < 0) {
         x_axis = -x_axis;
         std::swap(frame.effector_reach_positive, frame.effector_reach_negative);
@@ -512,6 +545,38 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.axes.col(0) = x_axis;
   frame.axes.col(1) = y_axis;
   frame.axes.col(2) = x_axis.cross(y_axis);  // right-handed by construction
+  frame.hand_to_handle = radial_distance(handle_line, Vec3::Zero());
+
+  // The head's kind, once: a plate whose length along the handle is a good share of its width continues
+  // the handle (a shovel), one much wider than long lies across it (a rake's comb).
+  if (has_head) {
+    std::vector<double> along, across;
+    for (auto i : head) {
+      along.push_back((cloud[i] - centre).dot(y_axis));
+      across.push_back((cloud[i] - centre).dot(frame.axes.col(2)));
+    }
+    frame.head_length = quantile(along, 0.95) - quantile(along, 0.05);
+    frame.head_width = quantile(across, 0.95) - quantile(across, 0.05);
+  }
+  const bool continues_handle = frame.head_length >= config.blade_min_aspect * frame.head_width;
+  if (frame.stick) {
+    frame.head_kind = HeadKind::none;
+  } else if (frame.head_kind != HeadKind::bar) {
+    if (blade && continues_handle) frame.head_kind = HeadKind::blade;
+    else if (curled && continues_handle) frame.head_kind = HeadKind::scoop;
+    else if (blade || thin_along_x) frame.head_kind = HeadKind::plate;
+  }
+  // Doubts: a handle that does not pass by the hand is not the one it holds; an effector whose two
+  // sides reach differently, but not by enough to be salient, may have its side reversed (a tool whose
+  // sides reach alike within salience-min is symmetric: either side is right).
+  frame.confidence.check(1.0 - frame.hand_to_handle / config.grasp_reach,
+                         fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
+                                     "it is not what the hand holds", 1000 * frame.hand_to_handle, 1000 * config.grasp_reach));
+  const double reach_difference = frame.effector_reach_positive - frame.effector_reach_negative;
+  if (!frame.stick && !curled && !frame.salient_effector && reach_difference >= config.salience_min)
+    frame.confidence.check(0.0, fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "
+                                            "to tell its side, too different for a symmetric head",
+                                            1000 * frame.effector_reach_positive, 1000 * frame.effector_reach_negative));
   // The centroid projected onto the symmetry plane.
   frame.origin = principal.centroid - (principal.centroid - (centre + offset * z_normal)).dot(z_normal) * z_normal;
   return frame;

@@ -46,8 +46,10 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
   const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(frame.effector_axis()); };
   // A stick's effector axis is arbitrary (nothing stands out from its handle), so "in front" means
   // nothing there: its tip is its far end, along the handle away from the hand.
+  // A blade or scoop continuing the handle works with its far end: the farthest from the hand.
   const auto primary = [&](std::uint32_t i) {
     if (frame.stick) return -(points[i] - frame.origin).dot(frame.handle_axis());
+    if (frame.tip_at_far_end()) return points[i].norm();
     return config.rule == TooltipRule::furthest
                ? front(i)
                : config.effector_weight * front(i) + (1.0 - config.effector_weight) * points[i].norm();
@@ -82,11 +84,12 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
     double t = points[i].norm();
     if (frame.stick) {
       t = -(points[i] - end_centre).norm();
-    } else if (config.rule == TooltipRule::weighted) {
-      double sum = 0.0;
+    } else if (frame.tip_at_far_end() || config.rule == TooltipRule::weighted) {
       const auto near = tree.knn(points[i], config.smoothing_neighbors);
-      for (const auto& n : near) sum += front(n.index);
-      t = config.effector_weight * sum / static_cast<double>(near.size()) + (1.0 - config.effector_weight) * t;
+      double sum = 0.0;
+      for (const auto& n : near) sum += frame.tip_at_far_end() ? points[n.index].norm() : front(n.index);
+      const double mean = sum / static_cast<double>(near.size());
+      t = frame.tip_at_far_end() ? mean : config.effector_weight * mean + (1.0 - config.effector_weight) * t;
     }
     p.tie_breaks.push_back(t);
     if (t > best) best = t, p.chosen = i;
@@ -144,9 +147,11 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   // under the measured noise. The tie-break's sigma: the noise itself for the distance from the hand;
   // w times the noise over the square root of the neighbourhood for the averaged distance in front.
   tip.noise_m = local_noise(tree, points[p.chosen], config.smoothing_neighbors);
-  const double sigma = config.rule == TooltipRule::furthest || frame.stick
-                           ? tip.noise_m
-                           : config.effector_weight * tip.noise_m / std::sqrt(std::max(1, config.smoothing_neighbors));
+  const double smoothed = tip.noise_m / std::sqrt(std::max(1, config.smoothing_neighbors));
+  const double sigma = frame.stick                                  ? tip.noise_m
+                       : frame.tip_at_far_end()                     ? smoothed
+                       : config.rule == TooltipRule::furthest       ? tip.noise_m
+                                                                    : config.effector_weight * smoothed;
   const double best = *std::max_element(p.tie_breaks.begin(), p.tie_breaks.end());
   std::size_t other_tied = p.tied.size();  // the best of those farther than ambiguity-distance
   for (std::size_t j = 0; j < p.tied.size(); ++j) {
@@ -169,8 +174,13 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
     tip.alternatives.push_back({on_symmetry_plane(points[q.chosen], other), other.symmetry_axis(), plane.score,
                                 "tied symmetry plane"});
   }
-  for (const auto& a : tip.alternatives)
-    tip.ambiguous = tip.ambiguous || (a.position - tip.position).norm() > config.ambiguity_distance;
+  double farthest = tip.uncertainty_m;
+  for (const auto& a : tip.alternatives) farthest = std::max(farthest, (a.position - tip.position).norm());
+  tip.ambiguous = farthest > config.ambiguity_distance;
+  tip.confidence = frame.confidence;
+  tip.confidence.check(1.0 - farthest / config.ambiguity_distance,
+                       fmt::format("another tip {:.0f} mm away scores as well (a tied point or symmetry plane), beyond "
+                                   "ambiguity-distance ({:.0f} mm)", 1000 * farthest, 1000 * config.ambiguity_distance));
   return tip;
 }
 

@@ -11,6 +11,10 @@ namespace toolinc {
 
 namespace {
 
+Json confidence_json(const Confidence& c) {
+  return {{"value", c.value}, {"confident", c.confident}, {"doubts", c.doubts}};
+}
+
 Json planes_json(const std::vector<SymmetryCandidate>& planes) {
   Json json = Json::array();
   for (const auto& c : planes) json.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
@@ -31,6 +35,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
       {"symmetry_axis", to_json(frame.symmetry_axis())},
       {"matrix", to_json(frame.hand_from_tool())},
       {"eigenvalues", to_json(frame.eigenvalues)},
+      {"head_kind", to_string(frame.head_kind)},
+      {"confidence", confidence_json(frame.confidence)},
       {"diagnostics",
        {{"points", {{"input", frame.points_input}, {"outside_hand", frame.points_outside_hand},
                     {"used", frame.points_used}, {"handle", frame.handle_points}}},
@@ -56,6 +62,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"salient_effector", frame.salient_effector},
         {"head_extent_m", frame.head_extent},
         {"stick", frame.stick},
+        {"head", {{"length_m", frame.head_length}, {"width_m", frame.head_width}}},
+        {"hand_to_handle_m", frame.hand_to_handle},
         {"config", {{"hand_radius", config.hand_radius}, {"voxel_size", config.voxel_size},
                     {"symmetry_tolerance", config.symmetry_tolerance}, {"handle_fraction", config.handle_fraction},
                     {"handle_hand_skip", config.handle_hand_skip}}}}},
@@ -83,6 +91,26 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   const Json none;
   const Json& diagnostics = json.contains("diagnostics") && json["diagnostics"].is_object() ? json["diagnostics"] : none;
   if (diagnostics.contains("stick") && diagnostics["stick"].is_boolean()) frame.stick = diagnostics["stick"].get<bool>();
+  if (json.contains("head_kind")) {
+    if (!json["head_kind"].is_string()) throw InputError(path, "head_kind must be a string");
+    try {
+      frame.head_kind = head_kind_from_string(json["head_kind"].get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path, e.what());
+    }
+  }
+  if (json.contains("confidence")) {
+    const Json& c = json["confidence"];
+    if (!c.is_object() || !c.contains("value") || !c["value"].is_number() || !c.contains("confident") ||
+        !c["confident"].is_boolean() || !c.contains("doubts") || !c["doubts"].is_array())
+      throw InputError(path, "confidence must be an object with a number value, a boolean confident and doubts");
+    frame.confidence.value = c["value"].get<double>();
+    frame.confidence.confident = c["confident"].get<bool>();
+    for (const auto& d : c["doubts"]) {
+      if (!d.is_string()) throw InputError(path, "confidence.doubts must be strings");
+      frame.confidence.doubts.push_back(d.get<std::string>());
+    }
+  }
   if (diagnostics.contains("symmetry_plane_rule") && diagnostics["symmetry_plane_rule"].is_string())
     frame.symmetry_plane_rule = diagnostics["symmetry_plane_rule"].get<std::string>();
   const Json* tied = nullptr;
@@ -192,11 +220,16 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
        {{"position", to_json(tooltip.position)}, {"axis_angle", {aa[0], aa[1], aa[2], aa[3]}}}},
       {"tooltip_uncertainty_m", tooltip.uncertainty_m},
       {"ambiguous", tooltip.ambiguous},
+      {"confidence", confidence_json(tooltip.confidence)},
       {"chosen_because",
        std::string(frame.stick
                        ? "a stick (nothing on the effector side stands out from the handle's axis by stick-width), "
                          "whose effector axis is arbitrary: the middle of its far end, the points tied within "
                          "tie-tolerance of the farthest along the handle"
+                   : frame.tip_at_far_end()
+                       ? "a " + to_string(frame.head_kind) + " continuing the handle, which works with its far end: "
+                         "the farthest from the hand, averaged over the point's neighbours, among the points tied "
+                         "within tie-tolerance"
                    : config.rule == TooltipRule::weighted
                        ? "best 0.8 x (in front of the effector plane) + 0.2 x (distance from the hand), the "
                          "distance in front averaged over the point's neighbours, among the points tied within "

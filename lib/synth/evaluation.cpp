@@ -29,6 +29,7 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
     errors.tooltip_m = tooltip_error(truth, tip.position);
+    errors.confident = tip.confidence.confident;
     errors.symmetry_plane_deg =
         std::acos(std::min(1.0, std::abs(frame.symmetry_axis().dot(truth.axes.col(2))))) * 180.0 / M_PI;
     // The true axes and origin; whether the tool is a stick (no head) is the tool's, as the estimate saw it.
@@ -36,6 +37,7 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
     true_frame.axes = truth.axes;
     true_frame.origin = truth.origin;
     true_frame.stick = frame.stick;
+    true_frame.head_kind = frame.head_kind;
     try {
       errors.tooltip_true_frame_m = tooltip_error(truth, find_tooltip(cloud, true_frame, tooltip_config).position);
     } catch (const MethodError&) {  // no dense point on the true effector side: as far as can be
@@ -49,11 +51,11 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
 
 }  // namespace
 
-HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
+HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, TruthTip tip, const Eigen::Matrix4d& grasp,
                                   double hand_radius, double noise_sigma, Rng& rng,
                                   const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
   const Points observed = observe_in_hand(canonical, grasp, hand_radius, noise_sigma, rng);
-  return frame_and_tooltip_errors(observed, {}, tool_ground_truth(canonical, symmetry, grasp), frame_config,
+  return frame_and_tooltip_errors(observed, {}, tool_ground_truth(canonical, symmetry, tip, grasp), frame_config,
                                   tooltip_config);
 }
 
@@ -64,8 +66,7 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, c
   dense.spacing = 0.001;
   const bool procedural = config.model.points.empty();
   const Points canonical = procedural ? generate_tool(dense, 1).points : config.model.points;
-  const ToolGroundTruth truth = tool_ground_truth(canonical, procedural ? symmetry_of(config.shape.family)
-                                                                        : config.model_symmetry,
+  const ToolGroundTruth truth = tool_ground_truth(canonical, tool_symmetry(config), tool_truth_tip(config),
                                                   config.hand_from_canonical);
   SessionErrors errors;
   std::vector<PointCloud> views;

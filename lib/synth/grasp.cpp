@@ -62,11 +62,20 @@ Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from
   return observed;
 }
 
-ToolGroundTruth tool_ground_truth(const Points& model, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
-                                  double effector_weight) {
+TruthTip truth_tip_of(ToolFamily family) {
+  return family == ToolFamily::shovel || family == ToolFamily::blade ? TruthTip::far_end : TruthTip::weighted;
+}
+
+TruthTip truth_tip_of_kind(const std::string& kind) {
+  return kind == "shovel" || kind == "spatula" ? TruthTip::far_end : TruthTip::weighted;
+}
+
+ToolGroundTruth tool_ground_truth(const Points& model, ToolSymmetry symmetry, TruthTip tip_rule,
+                                  const Eigen::Matrix4d& grasp, double effector_weight) {
   ToolGroundTruth truth;
   truth.hand_from_canonical = grasp;
   truth.symmetry = symmetry;
+  truth.tip = tip_rule;
   const Eigen::Matrix3d rotation = grasp.topLeftCorner<3, 3>();
   const Vec3 translation = grasp.topRightCorner<3, 1>();
   truth.axes = rotation;
@@ -81,8 +90,10 @@ ToolGroundTruth tool_ground_truth(const Points& model, ToolSymmetry symmetry, co
     Vec3 tip = Vec3::Zero();
     for (const auto& p : model) {
       if (p.y() >= centroid.y()) continue;
-      const double score = effector_weight * forward_sign * p.x() +
-                           (1.0 - effector_weight) * (rotation * p + translation).norm();
+      const double from_hand = (rotation * p + translation).norm();
+      const double score = tip_rule == TruthTip::far_end
+                               ? from_hand
+                               : effector_weight * forward_sign * p.x() + (1.0 - effector_weight) * from_hand;
       if (score > best) best = score, tip = Vec3(p.x(), p.y(), 0.0);
     }
     return Vec3(rotation * tip + translation);

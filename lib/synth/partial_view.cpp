@@ -49,7 +49,7 @@ PartialViewCase held_case(SessionSimulatorConfig scene, PointCloud model, ToolSy
   scene.hand_from_canonical = c.grasp;
   c.view = render_partial_view(scene, config, rng);
   c.model = std::move(model);
-  c.truth = tool_ground_truth(c.model.points, symmetry, c.grasp);
+  c.truth = tool_ground_truth(c.model.points, symmetry, tool_truth_tip(scene), c.grasp);
   return c;
 }
 
@@ -98,7 +98,7 @@ PoseErrors pose_errors(const PartialViewCase& c, const Eigen::Matrix4d& estimate
       break;
   }
   e.translation_m = (estimate.topRightCorner<3, 1>() - c.grasp.topRightCorner<3, 1>()).norm();
-  e.tooltip_m = tooltip_error(c.truth, tool_ground_truth(c.model.points, c.truth.symmetry, estimate).tooltips.front());
+  e.tooltip_m = tooltip_error(c.truth, tool_ground_truth(c.model.points, c.truth.symmetry, c.truth.tip, estimate).tooltips.front());
   return e;
 }
 

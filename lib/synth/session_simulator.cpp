@@ -14,6 +14,7 @@
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/model_kinds.hpp"
 #include "toolinc/synth/render.hpp"
 
 namespace toolinc {
@@ -66,9 +67,6 @@ void check(const SessionSimulatorConfig& config) {
     throw std::invalid_argument("the model's colours do not match its points");
 }
 
-ToolSymmetry tool_symmetry(const SessionSimulatorConfig& config) {
-  return config.model.empty() ? symmetry_of(config.shape.family) : config.model_symmetry;
-}
 
 // ground_truth_json describes a procedural shape; a model file replaces that description.
 Json ground_truth(const SessionSimulatorConfig& config, const RenderModel& model, const ToolGroundTruth& truth,
@@ -85,6 +83,14 @@ Json ground_truth(const SessionSimulatorConfig& config, const RenderModel& model
 }
 
 }  // namespace
+
+ToolSymmetry tool_symmetry(const SessionSimulatorConfig& config) {
+  return config.model.empty() ? symmetry_of(config.shape.family) : config.model_symmetry;
+}
+
+TruthTip tool_truth_tip(const SessionSimulatorConfig& config) {
+  return config.model.empty() ? truth_tip_of(config.shape.family) : truth_tip_of_kind(model_kind(config.model_name));
+}
 
 StereoModel stereo_model_from_string(const std::string& name) {
   if (name == "ideal") return StereoModel::ideal;
@@ -132,7 +138,8 @@ SessionSimulatorConfig model_session(const PointCloud& model, const std::string&
 SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
   check(config);
   const RenderModel model = render_model(config);
-  const ToolGroundTruth truth = tool_ground_truth(model.points, tool_symmetry(config), config.hand_from_canonical);
+  const ToolGroundTruth truth = tool_ground_truth(model.points, tool_symmetry(config), tool_truth_tip(config),
+                                                  config.hand_from_canonical);
   const Box hand_model = hand_box(config);
   // Callers draw the grasp from the same seed; a different stream keeps the two independent.
   Rng rng(config.seed ^ 0x5eed5e55u);

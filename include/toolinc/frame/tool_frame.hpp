@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "toolinc/core/point_cloud.hpp"
+#include "toolinc/frame/confidence.hpp"
 
 namespace toolinc {
 
@@ -61,7 +62,25 @@ struct ToolFrameConfig {
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
   double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
   double salience_min = 0.01;       // ... this ratio and this many metres
+  double blade_min_aspect = 0.5;    // a blade or scoop whose head reaches along the handle at least this
+                                    //    share of its width continues the handle (a shovel's blade 0.8-2,
+                                    //    a spatula more; a rake's comb 0.2-0.3): its tip is its far end
+  double grasp_reach = 0.10;        // m: the hand holds the handle, so the handle's axis passes within
+                                    //    this of the hand's origin (the original's grasp check: the tool
+                                    //    at most 10 cm from the hand); a farther axis is doubtful
 };
+
+// What the head is, decided once from its points about the handle: it decides the tooltip's rule.
+enum class HeadKind {
+  none,   // a stick: nothing stands out from the handle's axis by stick-width
+  bar,    // seen along the handle, the head lies along a line (L, T, hook): the plane contains its axis
+  blade,  // a flat plate continuing the handle (shovel, spatula): its tip is its far end
+  scoop,  // a curled plate continuing the handle (a shovel's scoop): its tip is its far end
+  plate,  // a flat head across the handle's line of sight (a rake's comb, a hoe's blade face-on)
+  other,
+};
+std::string to_string(HeadKind kind);
+HeadKind head_kind_from_string(const std::string& name);  // throws std::invalid_argument
 
 struct SymmetryCandidate {
   double angle_deg;   // about the handle axis, from the middle principal axis
@@ -95,14 +114,20 @@ struct ToolFrame {
   double effector_reach_negative = 0.0;   // m, along -X
   bool salient_effector = false;
   bool head_is_blade = false;             // the head is a plate along the handle (see blade_flatness)
+  HeadKind head_kind = HeadKind::other;
+  double head_length = 0.0, head_width = 0.0;  // m: the head's extent along the handle and across the plane
+  double hand_to_handle = 0.0;            // m: distance from the hand's origin to the handle's axis line
   double head_extent = 0.0;               // m: how far the effector side stands out from the handle's axis
                                           // (salience-quantile of its points' distances)
   bool stick = false;                     // head_extent below stick-width: no head
   double head_curl = 0.0;                 // m: how far the head's edges rise along +X above its middle,
                                           // measured when the head is thinnest along X
   int points_input = 0, points_outside_hand = 0, points_used = 0;
+  Confidence confidence;                  // whether the handle is the one held and the effector's side clear
 
   Eigen::Matrix4d hand_from_tool() const;
+  // A blade or scoop continuing the handle works with its far end, not with its front.
+  bool tip_at_far_end() const { return head_kind == HeadKind::blade || head_kind == HeadKind::scoop; }
   Vec3 effector_axis() const { return axes.col(0); }
   Vec3 handle_axis() const { return axes.col(1); }
   Vec3 symmetry_axis() const { return axes.col(2); }

@@ -52,6 +52,7 @@ struct Tooltip {
                                          // tied point whose tie-break is within 2 sigma of the best
   std::vector<TooltipAlternative> alternatives;
   bool ambiguous = false;                // an alternative lies farther than ambiguity-distance away
+  Confidence confidence;                 // the frame's, and whether another tip scores as well
 };
 
 // Throws MethodError when no effector-side point passes the density check.

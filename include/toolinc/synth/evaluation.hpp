@@ -26,12 +26,13 @@ struct HeldToolErrors {
   // also makes lies in the cloud (the tip not seen, or points off the tool in front of it), not in the frame.
   double tooltip_true_frame_m = 0.0;
   double symmetry_plane_deg = 0.0;
+  bool confident = false;            // the tooltip's confidence.confident
   std::string failure;               // the MethodError's reason when the method failed, else empty
 };
 
 // Holds `canonical` with `grasp`, removes the hand's points, adds noise, runs estimate_tool_frame and
 // find_tooltip, and compares with the ground truth.
-HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, const Eigen::Matrix4d& grasp,
+HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, TruthTip tip, const Eigen::Matrix4d& grasp,
                                   double hand_radius, double noise_sigma, Rng& rng,
                                   const ToolFrameConfig& frame_config = {}, const TooltipConfig& tooltip_config = {});
 

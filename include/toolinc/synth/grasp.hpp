@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "toolinc/core/point_cloud.hpp"
@@ -40,6 +41,13 @@ GraspRange any_grasp_range();
 Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from_canonical, double hand_radius,
                        double noise_sigma, Rng& rng);
 
+// The true tooltip's rule: the paper's weighted rule, except a flat or scooped blade continuing the
+// handle (a shovel, a spatula), whose tip is the blade's far end: the effector-side point farthest from
+// the hand, projected onto the symmetry plane.
+enum class TruthTip { weighted, far_end };
+TruthTip truth_tip_of(ToolFamily family);            // shovel and blade: far_end
+TruthTip truth_tip_of_kind(const std::string& kind);  // a model's kind (model_kinds.hpp): shovel, spatula
+
 // The paper's definitions evaluated with the true frame.
 struct ToolGroundTruth {
   Eigen::Matrix4d hand_from_canonical = Eigen::Matrix4d::Identity();
@@ -48,12 +56,13 @@ struct ToolGroundTruth {
   std::vector<Vec3> tooltips;                           // hand frame; several when the tool's symmetry
                                                         // makes either end of its head count
   ToolSymmetry symmetry = ToolSymmetry::mirror;
+  TruthTip tip = TruthTip::weighted;
 };
 
 // Tooltip: among the points beyond the handle plane (the model's centroid), the one maximising
 // w * x + (1 - w) * (distance from the hand), projected onto z = 0 (and the same with -x for
 // front-back symmetric tools).
-ToolGroundTruth tool_ground_truth(const Points& canonical_model, ToolSymmetry symmetry,
+ToolGroundTruth tool_ground_truth(const Points& canonical_model, ToolSymmetry symmetry, TruthTip tip,
                                   const Eigen::Matrix4d& hand_from_canonical, double effector_weight = 0.8);
 
 // Distance from an estimated tooltip (hand frame) to the nearest equivalent true one; for axially

@@ -16,6 +16,7 @@
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/record/exploration.hpp"
 #include "toolinc/session/session.hpp"
+#include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/sfm_stereo.hpp"
 #include "toolinc/synth/tool_generator.hpp"
 
@@ -123,6 +124,10 @@ SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed);
 // The same for a canonical model (simulate-session --model FILE --seed S): its symmetry as given.
 SessionSimulatorConfig model_session(const PointCloud& model, const std::string& name, ToolSymmetry symmetry,
                                      std::uint32_t seed);
+
+// The configured tool's symmetry and true tooltip rule (a model's from its name's kind, model_kinds.hpp).
+ToolSymmetry tool_symmetry(const SessionSimulatorConfig& config);
+TruthTip tool_truth_tip(const SessionSimulatorConfig& config);
 
 // Throws std::invalid_argument on a bad hand name, an empty pose list, a gross error for a view that does
 // not exist, or a grasp that is not rigid.
