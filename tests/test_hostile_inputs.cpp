@@ -296,6 +296,18 @@ TEST(StaleTemps, ALaterWriteRemovesTheTemporaryFilesOfWritersThatAreGone) {
   EXPECT_TRUE(fs::exists(dir / ("views.tmp." + alive)));
 }
 
+// Over `ulimit -f` the write fails (EFBIG) rather than SIGXFSZ killing the tool: exit 2, nothing left.
+TEST(StaleTemps, AFileSizeLimitIsAWriteErrorThatLeavesNothing) {
+  const fs::path dir = scratch_dir("file_size_limit");
+  const std::string command = "ulimit -f 1; " + std::string(TOOLINC_BIN_DIR) + "/estimate-frame -q " + q(kHoe) +
+                              " -o " + q(dir / "f.json") + " 2>" + q(dir.parent_path() / "xfsz.err");
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal";
+  EXPECT_EQ(WEXITSTATUS(status), 2) << slurp(dir.parent_path() / "xfsz.err");
+  EXPECT_NE(slurp(dir.parent_path() / "xfsz.err").find("f.json: cannot write"), std::string::npos);
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 // --- messages naming the file ----------------------------------------------------------------------
 
 TEST(Messages, UsageErrorsFromAConfigAndMethodFailuresAreOneLineNamingTheFile) {

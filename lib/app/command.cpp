@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <iterator>
@@ -176,6 +177,9 @@ int Command::run(int argc, char** argv, const std::function<void()>& body) {
   logger->set_pattern("%n: %^%l%$: %v");
   spdlog::set_default_logger(logger);
   track_inputs();
+  // Beyond `ulimit -f` a write then fails with EFBIG, reported and its temporary file removed, instead of
+  // the signal killing the process mid-write.
+  std::signal(SIGXFSZ, SIG_IGN);
   config_file_ = config_argument(argc, argv);
   try {
     if (!config_file_.empty()) *config_ = parse_json(read_file(config_file_, kMaxJsonBytes), config_file_);
