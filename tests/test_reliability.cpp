@@ -11,10 +11,12 @@
 #include <random>
 #include <thread>
 
+#include "input_error_of.hpp"
 #include "run_tool.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/frame/free_space.hpp"
 #include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/session/session.hpp"
@@ -25,17 +27,6 @@ using namespace toolinc::testing;
 namespace fs = std::filesystem;
 
 namespace {
-
-template <class F>
-std::string input_error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return {};
-}
 
 std::string nested(std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
 

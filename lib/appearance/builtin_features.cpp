@@ -279,10 +279,12 @@ Json to_json(const BuiltinFeatureConfig& c) {
 }
 
 BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::string& file) {
-  if (json.value("descriptor_version", 0) != kBuiltinDescriptorVersion)
+  if (!json.is_object()) throw InputError(file, "extractor: expected an object");
+  const Json version = json.value("descriptor_version", Json(1));
+  if (!version.is_number_integer() || version.get<long long>() != kBuiltinDescriptorVersion)
     throw InputError(file, fmt::format("extractor: a builtin descriptor of version {} (this toolinc computes version {}, "
                                        "which sees shape): retrain the classifier with learn-appearance train",
-                                       json.value("descriptor_version", 1), kBuiltinDescriptorVersion));
+                                       version.dump(), kBuiltinDescriptorVersion));
   if (!json.contains("window") || !json.contains("hog") || !json.contains("silhouette") || !json.contains("depth") ||
       !json.contains("colour"))
     throw InputError(file, "extractor: missing \"window\", \"hog\", \"silhouette\", \"depth\" or \"colour\"");

@@ -11,6 +11,8 @@
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
+#include "toolinc/io/read_file.hpp"
+#include "toolinc/session/image_decode.hpp"
 
 namespace toolinc {
 
@@ -33,8 +35,7 @@ cv::Rect parse_bbox(const std::string& text) {
 }
 
 cv::Mat read_image(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path, "no such file");
-  const cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
+  const cv::Mat image = decode_image(read_file(path), cv::IMREAD_COLOR);
   if (image.empty()) throw InputError(path, "not an image OpenCV can decode");
   return image;
 }

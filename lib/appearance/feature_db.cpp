@@ -12,6 +12,7 @@
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 
 namespace toolinc {
 namespace fs = std::filesystem;

@@ -14,7 +14,7 @@
 #include "toolinc/appearance/crops.hpp"
 #include "toolinc/appearance/unknown_floor.hpp"
 #include "toolinc/core/error.hpp"
-#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 #include "toolinc/session/session.hpp"
 
 namespace toolinc {

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <spdlog/fmt/fmt.h>
 
-#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 
 namespace toolinc {
 namespace {

@@ -5,6 +5,9 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
+
+#include <spdlog/fmt/fmt.h>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/scatter.hpp"
@@ -16,6 +19,11 @@ Points voxel_downsample(const Points& points, double voxel_size) {
   std::vector<std::pair<Key, std::uint32_t>> keyed(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d cell = (points[i] / voxel_size).array().floor();
+    // Beyond 2^62 cells the cast to int64 is undefined (and NaN never fits): a voxel far too small for
+    // the points, or points from outside any physical range.
+    if (!(cell.cwiseAbs().maxCoeff() < 0x1p62))
+      throw std::invalid_argument(fmt::format("voxel size {} m is too small for a point at ({}, {}, {}) m", voxel_size,
+                                              points[i].x(), points[i].y(), points[i].z()));
     keyed[i] = {{static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
                  static_cast<std::int64_t>(cell.z())},
                 i};

@@ -1,6 +1,7 @@
 #include "toolinc/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -12,6 +13,7 @@
 #include <iostream>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/io/run_inputs.hpp"
 
 namespace toolinc {
 namespace {
@@ -20,6 +22,38 @@ namespace {
 std::string temp_path_for(const std::string& path) {
   static std::atomic<unsigned> counter{0};
   return path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+}
+
+// The pid in "<name>.tmp.<pid>" (a folder) or "<name>.tmp.<pid>.<n>" (a file), 0 for other names.
+pid_t temp_owner(const std::string& entry, const std::string& name) {
+  const std::string prefix = name + ".tmp.";
+  if (entry.compare(0, prefix.size(), prefix) != 0) return 0;
+  const std::string rest = entry.substr(prefix.size());
+  const std::size_t dot = rest.find('.');
+  const std::string pid = rest.substr(0, dot), counter = dot == std::string::npos ? "" : rest.substr(dot + 1);
+  const auto digits = [](const std::string& s) { return !s.empty() && s.size() < 10 && s.find_first_not_of("0123456789") == std::string::npos; };
+  if (!digits(pid) || (dot != std::string::npos && !digits(counter))) return 0;
+  return static_cast<pid_t>(std::stol(pid));
+}
+
+bool process_is_gone(pid_t pid) { return ::kill(pid, 0) != 0 && errno == ESRCH; }
+
+// A writer killed between creating its temporary file (or folder) and renaming it leaves it behind;
+// the next write of the same target removes those whose process no longer exists. Live writers' ones,
+// this process's and anything named otherwise are left alone.
+void remove_stale_temps(const std::string& target) {
+  namespace fs = std::filesystem;
+  const fs::path path(target);
+  const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const std::string name = path.filename().string();
+  std::error_code ec;
+  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+    const pid_t pid = temp_owner(it->path().filename().string(), name);
+    if (pid > 0 && pid != ::getpid() && process_is_gone(pid)) {
+      std::error_code ignored;
+      fs::remove_all(it->path(), ignored);
+    }
+  }
 }
 
 // Streams do not always set errno (a writer may set failbit itself), so avoid reporting "Success".
@@ -64,6 +98,8 @@ void sync_folder_of(const std::string& path) {
 
 void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& write, bool binary) {
   if (path == "-") return write_to_stdout(write);
+  check_not_an_input(path);
+  remove_stale_temps(path);
   const std::string temp = temp_path_for(path);
   errno = 0;
   std::ofstream out(temp, binary ? std::ios::out | std::ios::binary : std::ios::out);
@@ -99,6 +135,8 @@ void as_input_error(const std::string& dir, F&& f) {
 
 OutputFolder::OutputFolder(const std::string& dir)
     : dir_(without_trailing_slash(dir)), temp_(dir_ + ".tmp." + std::to_string(::getpid())) {
+  check_not_an_input(dir_);
+  remove_stale_temps(dir_);
   as_input_error(dir, [&] {
     std::filesystem::remove_all(temp_);
     std::filesystem::create_directories(temp_);
@@ -121,6 +159,7 @@ void OutputFolder::commit() {
     if (!fs::exists(dir_, ec) || fs::is_empty(dir_, ec)) {
       fs::rename(temp_, dir_);  // replaces an empty folder too
     } else {
+      for (const auto& entry : fs::directory_iterator(temp_)) check_not_an_input((fs::path(dir_) / entry.path().filename()).string());
       for (const auto& entry : fs::directory_iterator(temp_)) fs::rename(entry.path(), fs::path(dir_) / entry.path().filename());
       sync_path(dir_, dir_);
       fs::remove(temp_);
@@ -128,23 +167,6 @@ void OutputFolder::commit() {
     sync_folder_of(dir_);
   });
   committed_ = true;
-}
-
-std::string read_file(const std::string& path) {
-  std::error_code ignored;
-  // An ifstream opens a directory without complaint and then reads nothing.
-  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "cannot open: Is a directory");
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open: " + last_error());
-  std::string data;
-  const auto size = std::filesystem::file_size(path, ignored);
-  if (!ignored) data.reserve(size);
-  // Chunked reads work for pipes too, where the size is not known up front.
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) data.append(chunk, static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw InputError(path, "cannot read: " + last_error());
-  return data;
 }
 
 }  // namespace toolinc

@@ -92,6 +92,9 @@ bool parse_count(std::string_view token, std::size_t& value);
 std::string quoted(std::string_view text);  // 'text', for error messages
 
 bool looks_like_pcd(std::string_view data);
+// Throws InputError(path, ...) for a finite point beyond kMaxCoordinate (limits.hpp) on any axis.
+void check_coordinate_range(const std::string& path, const Points& points);
+
 PointCloud parse_ply(const std::string& path, std::string_view data);
 PointCloud parse_pcd(const std::string& path, std::string_view data);
 

@@ -1,11 +1,14 @@
 #include "toolinc/io/cloud_io.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <charconv>
 #include <cstdint>
 
 #include "cloud_formats.hpp"
 #include "toolinc/core/error.hpp"
-#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/limits.hpp"
+#include "toolinc/io/read_file.hpp"
 
 namespace toolinc {
 namespace io_detail {
@@ -98,6 +101,16 @@ bool parse_count(std::string_view token, std::size_t& value) { return parse_whol
 
 std::string quoted(std::string_view text) { return "'" + std::string(text) + "'"; }
 
+void check_coordinate_range(const std::string& path, const Points& points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& p = points[i];
+    if (p.allFinite() && p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw InputError(path, fmt::format("point {} at ({:g}, {:g}, {:g}) lies beyond the {:g} m a cloud may reach "
+                                         "from the origin",
+                                         i, p.x(), p.y(), p.z(), kMaxCoordinate));
+  }
+}
+
 }  // namespace io_detail
 
 namespace {
@@ -138,6 +151,7 @@ PointCloud read_cloud(const std::string& path, CloudReadStats* stats) {
   }
   const std::size_t in_file = cloud.size();
   const std::size_t dropped = drop_non_finite(cloud);
+  io_detail::check_coordinate_range(path, cloud.points);
   if (stats) {
     stats->points_in_file = in_file;
     stats->non_finite_dropped = dropped;

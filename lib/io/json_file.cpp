@@ -2,10 +2,9 @@
 
 #include <spdlog/fmt/fmt.h>
 
-#include <filesystem>
-
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 
 namespace toolinc {
 
@@ -41,13 +40,7 @@ Json parse_json(std::string_view text, const std::string& file) {
   }
 }
 
-Json read_json(const std::string& path) {
-  std::error_code unknown;
-  const auto size = std::filesystem::file_size(path, unknown);
-  if (!unknown && size > kMaxJsonBytes)
-    throw InputError(path, fmt::format("JSON of {} bytes is larger than the {} bytes allowed", size, kMaxJsonBytes));
-  return parse_json(read_file(path), path);
-}
+Json read_json(const std::string& path) { return parse_json(read_file(path, kMaxJsonBytes), path); }
 
 void write_json(const std::string& path, const Json& json) {
   write_file_atomic(path, [&](std::ostream& out) { out << json.dump(2) << '\n'; });
@@ -88,6 +81,12 @@ Eigen::Matrix4d matrix4_field(const Json& json, const std::string& key, const st
     for (int c = 0; c < 4; ++c) m(r, c) = number_at(rows[r][c], key, file);
   }
   return m;
+}
+
+std::string string_field(const Json& json, const std::string& key, const std::string& file) {
+  if (!json.is_object() || !json.contains(key)) throw InputError(file, fmt::format("missing \"{}\"", key));
+  if (!json.at(key).is_string()) throw InputError(file, fmt::format("\"{}\" must be a string", key));
+  return json.at(key).get<std::string>();
 }
 
 void check_type(const Json& json, const std::string& type, int supported_version, const std::string& file) {

@@ -12,7 +12,8 @@
 
 #include "cloud_formats.hpp"
 #include "toolinc/core/error.hpp"
-#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
+#include "toolinc/io/limits.hpp"
 #include "toolinc/io/pcd_write.hpp"
 
 namespace toolinc::io_detail {
@@ -191,6 +192,9 @@ PcdHeader parse_header(const std::string& path, std::string_view data) {
   PcdHeader header;
   header.fields = build_fields(path, raw);
   header.points = point_count(path, raw);
+  if (header.points > kMaxCloudPoints)
+    throw InputError(path, "PCD header: " + std::to_string(header.points) + " points, more than the " +
+                               std::to_string(kMaxCloudPoints) + " a cloud may hold");
   if (*raw.data == "ascii") {
     header.data = PcdData::Ascii;
   } else if (*raw.data == "binary") {
@@ -306,6 +310,10 @@ void read_compressed(const std::string& path, const PcdHeader& header, const Rol
                                std::to_string(header.points) + " points of " + std::to_string(stride) + " bytes");
   }
   for (Column& column : columns) column.start *= header.points;
+  // Decompressed, the data is a binary PCD body: no larger than a file the reader accepts.
+  if (uncompressed > kMaxFileBytes)
+    throw InputError(path, "binary_compressed: " + std::to_string(uncompressed) + " bytes uncompressed, more than the " +
+                               std::to_string(kMaxFileBytes) + " allowed");
   // An LZF back-reference of 3 bytes yields at most 264: a larger claim is corrupt, not worth allocating.
   if (uncompressed / 88 > compressed) throw InputError(path, "corrupt binary_compressed data (sizes do not fit LZF)");
   std::vector<std::uint8_t> block(uncompressed);
@@ -432,7 +440,9 @@ Points read_organised_pcd(const std::string& path, int width, int height) {
   if (w != static_cast<std::size_t>(width) || h != static_cast<std::size_t>(height) || header.points != w * h)
     throw InputError(path, fmt::format("organised cloud is {}x{} ({} points), expected {}x{}", w, h, header.points,
                                        width, height));
-  return io_detail::decode_pcd(path, header, data).points;
+  Points points = io_detail::decode_pcd(path, header, data).points;
+  io_detail::check_coordinate_range(path, points);
+  return points;
 }
 
 }  // namespace toolinc

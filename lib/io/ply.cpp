@@ -11,6 +11,7 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
+#include "toolinc/io/limits.hpp"
 
 namespace toolinc {
 namespace io_detail {
@@ -300,15 +301,25 @@ bool read_record(Source& source, const PlyElement& element, const std::vector<in
 
 std::string plural(const std::string& element) { return element == "vertex" ? "vertices" : element + " elements"; }
 
+// The fewest bytes a record of element can take: its binary scalars (a list at least its count), or in
+// ASCII one character and a separator per value.
+std::size_t min_record_bytes(const PlyElement& element, PlyFormat format) {
+  if (format == PlyFormat::Ascii) return 2 * element.properties.size();
+  std::size_t bytes = 0;
+  for (const PlyProperty& property : element.properties)
+    bytes += scalar_size(property.is_list ? property.count_type : property.type);
+  return bytes;
+}
+
 template <class Source>
 void read_body(const std::string& path, Source& source, const PlyHeader& header, const PlyElement& vertex,
-               const VertexLayout& layout, std::size_t max_records, PointCloud& cloud) {
+               const VertexLayout& layout, std::size_t body_bytes, PointCloud& cloud) {
   for (const PlyElement& element : header.elements) {
     if (element.properties.empty()) continue;  // no data, however large the count
     const bool is_vertex = &element == &vertex;
     // Reserve no more than the data could hold, so a lying count cannot exhaust memory.
     if (is_vertex) {
-      cloud.points.reserve(std::min(element.count, max_records));
+      cloud.points.reserve(std::min(element.count, body_bytes / min_record_bytes(element, header.format)));
       if (layout.colors) cloud.colors.reserve(cloud.points.capacity());
       if (layout.normals) cloud.normals.reserve(cloud.points.capacity());
     }
@@ -331,6 +342,9 @@ PointCloud parse_ply(const std::string& path, std::string_view data) {
                                    [](const PlyElement& element) { return element.name == "vertex"; });
   const VertexLayout layout = vertex == header.elements.end() ? VertexLayout{} : vertex_layout(*vertex);
   if (!layout.xyz) throw InputError(path, "PLY has no x/y/z vertex properties");
+  if (vertex->count > kMaxCloudPoints)
+    throw InputError(path, "PLY header: " + std::to_string(vertex->count) + " vertices, more than the " +
+                               std::to_string(kMaxCloudPoints) + " a cloud may hold");
 
   PointCloud cloud;
   cloud.frame = header.frame;
@@ -338,7 +352,7 @@ PointCloud parse_ply(const std::string& path, std::string_view data) {
   const std::string_view body = data.substr(header.data_offset);
   if (header.format == PlyFormat::Ascii) {
     AsciiSource source(path, body, header.lines + 1);
-    read_body(path, source, header, *vertex, layout, body.size() / 2, cloud);
+    read_body(path, source, header, *vertex, layout, body.size(), cloud);
   } else {
     BinarySource source(path, body, (header.format == PlyFormat::BinaryBig) != host_is_big_endian());
     read_body(path, source, header, *vertex, layout, body.size(), cloud);

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "toolinc/core/error.hpp"
-#include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/io/results_json.hpp"
 

@@ -6,6 +6,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <filesystem>
+#include <set>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -13,8 +14,11 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/atomic_file.hpp"
+#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/io/pcd_write.hpp"
+#include "toolinc/io/run_inputs.hpp"
+#include "toolinc/session/image_decode.hpp"
 
 namespace toolinc {
 namespace fs = std::filesystem;
@@ -48,15 +52,9 @@ int positive_int(const Json& json, const std::string& key, const std::string& fi
   return static_cast<int>(positive(json, key, file));
 }
 
-std::string text(const Json& json, const std::string& key, const std::string& file) {
-  const Json& value = field(json, key, file);
-  if (!value.is_string()) throw InputError(file, fmt::format("\"{}\" must be a string", key));
-  return value.get<std::string>();
-}
-
 // Descriptive fields a hand-made session may leave out.
 std::string optional_text(const Json& json, const std::string& key, const std::string& file) {
-  return json.contains(key) ? text(json, key, file) : std::string();
+  return json.contains(key) ? string_field(json, key, file) : std::string();
 }
 
 Eigen::Matrix4d rigid_field(const Json& json, const std::string& key, const std::string& file) {
@@ -102,11 +100,21 @@ void check_inside_session(const std::string& dir, const std::string& session_fil
     throw InputError(session_file, fmt::format("view folder \"{}\" is not a relative path inside the session folder", dir));
 }
 
+// The same check once links are followed: a view folder or an image linked to another session is
+// someone else's data as much as a ".." is.
+fs::path resolved_inside(const fs::path& path, const fs::path& session_dir) {
+  if (!resolves_inside(path.string(), session_dir.string()))
+    throw InputError(path.string(), fmt::format("resolves to {}, outside the session folder {}",
+                                                resolved_path(path.string()), session_dir.string()));
+  return path;
+}
+
 ViewRecord read_view_json(const fs::path& session_dir, const std::string& dir, const std::string& session_file) {
   check_inside_session(dir, session_file);
   const fs::path view_dir = session_dir / dir;
   if (!fs::is_directory(view_dir)) throw InputError(session_file, fmt::format("view folder {} is missing", dir));
-  const std::string file = (view_dir / "view.json").string();
+  resolved_inside(view_dir, session_dir);
+  const std::string file = resolved_inside(view_dir / "view.json", session_dir).string();
   if (!fs::exists(file)) throw InputError(view_dir.string(), "missing view.json");
   const Json json = read_json(file);
   ViewRecord record;
@@ -149,9 +157,9 @@ cv::Mat colour(const cv::Mat& image) {
 enum class Required { yes, no };
 
 // Reads dir/name as an 8-bit PNG of the camera's size; an absent optional file gives an empty Mat.
-cv::Mat read_png(const fs::path& dir, const std::string& name, bool is_colour, const CameraModel& camera,
-                 Required required) {
-  const fs::path path = dir / name;
+cv::Mat read_png(const fs::path& session_dir, const fs::path& dir, const std::string& name, bool is_colour,
+                 const CameraModel& camera, Required required) {
+  const fs::path path = resolved_inside(dir / name, session_dir);
   const std::string where = dir.string();
   if (!fs::exists(path)) {
     if (required == Required::yes) throw InputError(where, "missing " + name);
@@ -160,14 +168,7 @@ cv::Mat read_png(const fs::path& dir, const std::string& name, bool is_colour, c
   const std::string bytes = read_file(path.string());
   static const std::string kPngMagic = "\x89PNG\r\n\x1a\n";
   cv::Mat image;
-  if (bytes.compare(0, kPngMagic.size(), kPngMagic) == 0) {
-    try {
-      image = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
-                           cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-      image = cv::Mat();
-    }
-  }
+  if (bytes.compare(0, kPngMagic.size(), kPngMagic) == 0) image = decode_image(bytes, cv::IMREAD_UNCHANGED);
   if (image.empty()) throw InputError(where, name + " is not a readable PNG");
   if (image.depth() != CV_8U) throw InputError(where, name + " must be 8-bit");
   if (image.cols != camera.width || image.rows != camera.height)
@@ -234,7 +235,8 @@ SessionInfo read_session(const std::string& session_dir) {
   const std::string file = (fs::path(session_dir) / "session.json").string();
   if (!fs::is_directory(session_dir)) throw InputError(session_dir, "not a folder (expected a recorded session)");
   if (!fs::exists(file)) throw InputError(session_dir, "missing session.json (not a recorded session)");
-  const Json json = read_json(file);
+  note_input_folder(session_dir);
+  const Json json = read_json(resolved_inside(file, session_dir).string());
   if (!json.is_object()) throw InputError(file, "expected a JSON object");
   const std::string format = json.contains("format") && json["format"].is_string() ? json["format"].get<std::string>() : "";
   if (format != kFormat) throw InputError(file, fmt::format("format is \"{}\", expected \"{}\"", format, kFormat));
@@ -243,11 +245,11 @@ SessionInfo read_session(const std::string& session_dir) {
     throw InputError(file, fmt::format("format version {} is not supported (this build reads {})", version.dump(),
                                        kSessionFormatVersion));
   SessionInfo session;
-  if (json.contains("robot")) session.robot = text(json, "robot", file);
-  session.hand = text(json, "hand", file);
+  if (json.contains("robot")) session.robot = string_field(json, "robot", file);
+  session.hand = string_field(json, "hand", file);
   if (session.hand != "left" && session.hand != "right")
     throw InputError(file, fmt::format("hand must be \"left\" or \"right\" (found \"{}\")", session.hand));
-  if (json.contains("tool_label") && !json["tool_label"].is_null()) session.tool_label = text(json, "tool_label", file);
+  if (json.contains("tool_label") && !json["tool_label"].is_null()) session.tool_label = string_field(json, "tool_label", file);
   session.camera = camera_from_json(field(json, "camera", file), file);
   session.created = optional_text(json, "created", file);
   session.notes = optional_text(json, "notes", file);
@@ -257,8 +259,11 @@ SessionInfo read_session(const std::string& session_dir) {
   }
   const Json& views = field(json, "views", file);
   if (!views.is_array()) throw InputError(file, "\"views\" must be a list of folders");
+  std::set<std::string> seen;  // folders, links resolved: "views/000", "views/000/" and "./views/000" are one
   for (const Json& dir : views) {
     if (!dir.is_string()) throw InputError(file, "\"views\" must be a list of folders");
+    if (!seen.insert(resolved_path((fs::path(session_dir) / dir.get<std::string>()).string())).second)
+      throw InputError(file, fmt::format("view folder \"{}\" is listed twice", dir.get<std::string>()));
     session.views.push_back(read_view_json(session_dir, dir.get<std::string>(), file));
   }
   return session;
@@ -270,11 +275,12 @@ ViewData read_view(const std::string& session_dir, const SessionInfo& session, s
   const fs::path dir = fs::path(session_dir) / session.views[view].dir;
   const CameraModel& camera = session.camera;
   ViewData data;
-  data.left = read_png(dir, "left.png", true, camera, Required::yes);
-  data.disparity = read_png(dir, "disparity.png", false, camera, Required::yes);
-  data.blob = read_png(dir, "blob.png", false, camera, Required::no);
+  data.left = read_png(session_dir, dir, "left.png", true, camera, Required::yes);
+  data.disparity = read_png(session_dir, dir, "disparity.png", false, camera, Required::yes);
+  data.blob = read_png(session_dir, dir, "blob.png", false, camera, Required::no);
   if (fs::exists(dir / "points.pcd"))
-    data.points = read_organised_pcd((dir / "points.pcd").string(), camera.width, camera.height);
+    data.points = read_organised_pcd(resolved_inside(dir / "points.pcd", session_dir).string(), camera.width,
+                                     camera.height);
   return data;
 }
 

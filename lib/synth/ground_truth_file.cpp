@@ -38,9 +38,9 @@ ToolGroundTruth read_ground_truth(const std::string& path) {
   if (!is_rotation(truth.axes, 1e-6) || !is_rigid(truth.hand_from_canonical, 1e-6))
     throw InputError(path, "the ground truth's transforms are not rigid");
   try {
-    truth.symmetry = symmetry_from_string(json.value("symmetry", ""));
+    truth.symmetry = symmetry_from_string(string_field(json, "symmetry", path));
   } catch (const std::invalid_argument& e) {
-    throw InputError(path, e.what());
+    throw InputError(path, std::string("\"symmetry\": ") + e.what());
   }
   if (!json.contains("equivalent_tooltips") || !json["equivalent_tooltips"].is_array() ||
       json["equivalent_tooltips"].empty())

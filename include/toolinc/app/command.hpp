@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -29,10 +31,14 @@ class Command {
   int run(int argc, char** argv, const std::function<void()>& body);
 
  private:
+  // The existing files the options other than -o name, so that -o cannot be one of them.
+  std::vector<std::string> named_files() const;
+
   std::string name_;
   CLI::App cli_;
   std::string output_;
   std::string config_file_;
+  std::shared_ptr<nlohmann::ordered_json> config_ = std::make_shared<nlohmann::ordered_json>(nlohmann::ordered_json::object());
   std::string command_line_;
   int verbosity_ = 0;
   bool quiet_ = false;

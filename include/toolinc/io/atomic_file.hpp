@@ -39,7 +39,4 @@ class OutputFolder {
   bool committed_ = false;
 };
 
-// Reads a whole file; throws InputError("path", "cannot open ...") when it cannot.
-std::string read_file(const std::string& path);
-
 }  // namespace toolinc

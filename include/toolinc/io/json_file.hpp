@@ -35,6 +35,7 @@ Json to_json(const Eigen::Matrix4d& m);  // 4 rows of 4
 
 // Readers for fields of a result file; they throw InputError(file, "<key>: <problem>").
 Eigen::Vector3d vector3_field(const Json& json, const std::string& key, const std::string& file);
+std::string string_field(const Json& json, const std::string& key, const std::string& file);
 Eigen::Matrix4d matrix4_field(const Json& json, const std::string& key, const std::string& file);
 // Checks "type" and "version" (<= supported) and throws InputError otherwise.
 void check_type(const Json& json, const std::string& type, int supported_version, const std::string& file);
