@@ -137,11 +137,11 @@ void parse_options(Command& command, const py::object& config, const py::kwargs&
   for (const auto& [key, value] : kwargs) add(key, value);
   std::vector<std::string> args;
   for (const auto& [name, value] : options) args.insert(args.end(), {name, value});
-  if (!config.is_none() && !py::isinstance<py::dict>(config))
-    args.insert(args.end(), {"--config", py::str(config).cast<std::string>()});
+  const std::string config_file =
+      !config.is_none() && !py::isinstance<py::dict>(config) ? py::str(config).cast<std::string>() : "";
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
   try {
-    command.cli().parse(args);
+    command.parse(args, config_file);
   } catch (const CLI::ParseError& e) {
     throw InputError("", e.what());
   }

@@ -170,6 +170,20 @@ std::vector<std::string> Command::named_files() const {
   return files;
 }
 
+void Command::prepare() {
+  if (!config_file_.empty()) *config_ = parse_json(read_file(config_file_, kMaxJsonBytes), config_file_);
+  if (!config_->is_object()) throw InputError(config_file_, "a config file must hold a JSON object");
+  for (CLI::Option* option : cli_.get_options())
+    if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite_number());
+}
+
+void Command::parse(std::vector<std::string> args, const std::string& config_file) {
+  config_file_ = config_file;
+  prepare();
+  if (!config_file.empty()) args.insert(args.begin(), {config_file, "--config"});
+  cli_.parse(args);
+}
+
 int Command::run(int argc, char** argv, const std::function<void()>& body) {
   command_line_ = name_;  // not argv[0], so outputs do not depend on where the binary lives
   for (int i = 1; i < argc; ++i) command_line_ += " " + quote_argument(argv[i]);
@@ -182,14 +196,11 @@ int Command::run(int argc, char** argv, const std::function<void()>& body) {
   std::signal(SIGXFSZ, SIG_IGN);
   config_file_ = config_argument(argc, argv);
   try {
-    if (!config_file_.empty()) *config_ = parse_json(read_file(config_file_, kMaxJsonBytes), config_file_);
-    if (!config_->is_object()) throw InputError(config_file_, "a config file must hold a JSON object");
+    prepare();
   } catch (const InputError& e) {
     spdlog::error("{}", e.what());
     return 2;
   }
-  for (CLI::Option* option : cli_.get_options())
-    if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite_number());
   try {
     cli_.parse(argc, argv);
   } catch (const CLI::Success& e) {

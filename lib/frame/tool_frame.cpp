@@ -23,9 +23,6 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
 constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis under stereo noise
-// m: how far the head's mirror plane may lie off the handle's axis line: a handle axis 6 degrees off
-// (a stereo handle's fit) passes a head 20 cm away 2 cm off its middle.
-constexpr double kMaxPlaneShift = 0.02;
 
 void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud,
                           const PrincipalAxes& axes, const ToolFrameConfig& config) {
@@ -496,12 +493,6 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     }
   }
   const Vec3 z_normal = normal_at(best_angle);
-  // The head's own mirror plane: a handle axis tilted by a few degrees passes the head off its middle,
-  // so the plane is moved along its normal to where the head mirrors best.
-  if (frame.head_kind != HeadKind::bar && static_cast<int>(head.size()) >= config.min_head_points) {
-    offset = golden_minimum([&](double o) { return scorer.score(z_normal, centre + o * z_normal); }, -kMaxPlaneShift,
-                            kMaxPlaneShift, 12);
-  }
   frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
   frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
   frame.across_handle_score = scorer.score(y_axis, principal.centroid);

@@ -30,9 +30,16 @@ class Command {
   // Parses argv, sets up logging, runs body and maps exceptions to exit codes.
   int run(int argc, char** argv, const std::function<void()>& body);
 
+  // For library callers (the Python module): reads config_file as -c does (when not empty), then parses
+  // args (CLI11's reversed order). Throws InputError for the file, CLI::ParseError for the options.
+  void parse(std::vector<std::string> args, const std::string& config_file);
+
  private:
   // The existing files the options other than -o name, so that -o cannot be one of them.
   std::vector<std::string> named_files() const;
+  // Reads config_file_ (bounded, naming the file) and makes every floating-point option refuse NaN and
+  // infinity. Throws InputError.
+  void prepare();
 
   std::string name_;
   CLI::App cli_;
