@@ -7,7 +7,6 @@
 namespace toolinc {
 namespace {
 
-constexpr float kInvalid = -10.0f;
 constexpr float kDiscontinuity = 3.0f;  // px: neighbours farther apart lie on different surfaces
 constexpr int kMeanRadius = 4;          // the adaptive mean's window: offsets -4..+3
 constexpr float kMeanRange = 4.0f;      // px of difference at which a neighbour's weight reaches 0
@@ -68,7 +67,7 @@ void remove_speckles(cv::Mat& disparity, int min_size, double similarity) {
         }
     }
     if (static_cast<int>(segment.size()) < min_size)
-      for (const int i : segment) d[i] = kInvalid;
+      for (const int i : segment) d[i] = kNoDisparity;
   }
 }
 
@@ -84,7 +83,7 @@ void adaptive_mean(cv::Mat& disparity) {
   CV_Assert(disparity.type() == CV_32FC1 && disparity.isContinuous());
   const int width = disparity.cols, height = disparity.rows;
   cv::Mat input = disparity.clone();
-  input.setTo(kInvalid, input < 0);  // invalid values far below every valid one weigh nothing
+  input.setTo(kNoDisparity, input < 0);  // invalid values far below every valid one weigh nothing
   cv::Mat rows = input.clone();
   for (int v = 0; v < height; ++v)
     mean_line(input.ptr<float>(v), rows.ptr<float>(v), width, 1);

@@ -16,7 +16,6 @@
 namespace toolinc {
 namespace {
 
-constexpr float kInvalid = -10.0f;
 constexpr int kDescriptorBytes = 16;
 constexpr int kSupportStep = 2;     // the support cost reads the descriptors at (u +/- 2, v +/- 2)
 constexpr int kSupportBorder = 5;   // px a support candidate keeps from the image's border
@@ -263,7 +262,7 @@ cv::Mat dense_match(const View& view, const std::vector<SupportPoint>& support, 
     prior[delta] = static_cast<int>(
         (std::log(config.gamma) - std::log(config.gamma + std::exp(-delta * delta / (2 * config.sigma * config.sigma)))) /
         config.beta);
-  cv::Mat disparity(size, CV_32FC1, cv::Scalar(kInvalid));
+  cv::Mat disparity(size, CV_32FC1, cv::Scalar(kNoDisparity));
   const auto match = [&](int u, int v, const Triangle& t) {
     const int line = std::clamp(v, 2, height - 3);
     const std::uint8_t* self = view.self.at(u, line);
@@ -306,7 +305,7 @@ void left_right_check(cv::Mat& left, const cv::Mat& right, int threshold) {
     for (int u = 0; u < left.cols; ++u) {
       float& d = left.at<float>(v, u);
       const int w = static_cast<int>(u - d);
-      if (d < 0 || w < 0 || w >= left.cols || std::abs(right.at<float>(v, w) - d) > threshold) d = kInvalid;
+      if (d < 0 || w < 0 || w >= left.cols || std::abs(right.at<float>(v, w) - d) > threshold) d = kNoDisparity;
     }
 }
 
@@ -323,7 +322,7 @@ cv::Mat elas_disparity(const cv::Mat& left, const cv::Mat& right, const ElasConf
   CV_Assert(left.size() == right.size() && left.type() == right.type() && left.depth() == CV_8U);
   const Descriptors dl(grey(left)), dr(grey(right));
   const std::vector<SupportPoint> support = support_points(dl, dr, config);
-  if (support.size() < 3) return cv::Mat(left.size(), CV_32FC1, cv::Scalar(kInvalid));
+  if (support.size() < 3) return cv::Mat(left.size(), CV_32FC1, cv::Scalar(kNoDisparity));
   cv::Mat disparity = dense_match({dl, dr, -1}, support, config);
   left_right_check(disparity, dense_match({dr, dl, +1}, support, config), config.lr_threshold);
   remove_speckles(disparity, config.speckle_size, config.speckle_sim_threshold);

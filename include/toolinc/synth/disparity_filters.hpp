@@ -6,7 +6,10 @@
 
 namespace toolinc {
 
-// Removes (sets to -10) every 4-connected segment of fewer than `min_size` pixels whose neighbours
+// The value ELAS gives a pixel without disparity.
+constexpr float kNoDisparity = -10.0f;
+
+// Removes (sets to kNoDisparity) every 4-connected segment of fewer than `min_size` pixels whose neighbours
 // differ by at most `similarity` px: isolated mismatches rather than surfaces.
 void remove_speckles(cv::Mat& disparity, int min_size, double similarity);
 
