@@ -1,9 +1,11 @@
-// check-realism REAL_TOOLS_DIR [--seeds N] [--first-seed S] [--stereo sgbm|ideal]: how far the robot's own
-// reconstructions of real tools (X_rec.ply, hand frame) lie from the tools' models (X.pcd, canonical
-// pose), beside the merged models of simulated sessions of the same models: median, 90th percentile
-// and share of points beyond 5 mm, per tool and as the median over tools (real) and over sessions
-// (simulated), and the simulated sessions' tooltip errors. The simulator is realistic when each simulated
-// figure is within a factor 1.5 of the real.
+// check-realism REAL_TOOLS_DIR [--seeds N] [--first-seed S] [--stereo elas|sgbm|ideal] [--grasp recorded|any]:
+// the robot's own reconstructions of real tools (X_rec.ply, hand frame) against the tools' models (X.pcd,
+// canonical pose) placed on them, beside the merged models of simulated sessions of the same models, by
+// six figures: accuracy (median, 90th percentile and share of points beyond 5 mm from the true
+// surface), coverage (share of the true surface within 5 and 10 mm of the cloud) and the tip gap (the
+// true tooltip to the nearest cloud point: median, and the share of clouds within 10 mm). Per tool and
+// in all: the median over tools (robot) and over sessions (simulated); a failed session counts as a
+// cloud without the tip.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -20,44 +22,52 @@
 
 namespace {
 
-using toolinc::DistanceProfile;
+using toolinc::CloudFigures;
 
-DistanceProfile median_profile(const std::vector<DistanceProfile>& profiles) {
-  std::vector<double> medians, p90s, beyond;
-  for (const auto& p : profiles) medians.push_back(p.median_m), p90s.push_back(p.p90_m), beyond.push_back(p.beyond);
-  return {toolinc::median(medians), toolinc::median(p90s), toolinc::median(beyond)};
-}
+constexpr double kTipReach = 0.010;  // m: a cloud "has the tip" within this
 
-// The simulated sessions' tooltip errors: within 10 mm, within 20 mm, median (failed sessions count as misses).
-struct TooltipFigures {
-  int within_10mm = 0, within_20mm = 0;
-  std::vector<double> errors;
-  void add(const toolinc::SessionErrors& e) {
-    if (!e.tool.failure.empty()) return errors.push_back(NAN);
-    within_10mm += e.tool.tooltip_m <= 0.010;
-    within_20mm += e.tool.tooltip_m <= 0.020;
-    errors.push_back(e.tool.tooltip_m);
+// The six figures of a set of clouds; `failed` clouds count only against the tip share.
+struct Summary {
+  std::vector<CloudFigures> clouds;
+  int failed = 0;
+  void add(const Summary& other) {
+    clouds.insert(clouds.end(), other.clouds.begin(), other.clouds.end());
+    failed += other.failed;
   }
 };
 
-void print_row(const std::string& name, const DistanceProfile& real, const DistanceProfile& simulated,
-               const TooltipFigures& tips) {
-  std::vector<double> valid;
-  for (double e : tips.errors)
-    if (!std::isnan(e)) valid.push_back(e);
-  const auto n = static_cast<double>(tips.errors.size());
-  std::printf("%-14s %7.1fmm %7.1fmm %6.0f%%   %7.1fmm %7.1fmm %6.0f%% %9zu %6.0f%% %6.0f%% %7.1fmm\n", name.c_str(),
-              1000 * real.median_m, 1000 * real.p90_m, 100 * real.beyond, 1000 * simulated.median_m,
-              1000 * simulated.p90_m, 100 * simulated.beyond, tips.errors.size(), 100 * tips.within_10mm / n,
-              100 * tips.within_20mm / n, 1000 * toolinc::median(valid));
+double median_of(const Summary& s, double (*figure)(const CloudFigures&)) {
+  std::vector<double> values;
+  for (const auto& c : s.clouds) values.push_back(figure(c));
+  return values.empty() ? NAN : toolinc::median(values);
+}
+
+void print_figures(const Summary& s) {
+  const auto tips = std::count_if(s.clouds.begin(), s.clouds.end(),
+                                  [](const CloudFigures& c) { return c.tip_gap_m <= kTipReach; });
+  const int n = static_cast<int>(s.clouds.size()) + s.failed;
+  std::printf(" %6.1f %6.1f %5.2f %5.2f %5.2f %6.1f %3ld/%-3d", 1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.median_m; }),
+              1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.p90_m; }),
+              median_of(s, [](const CloudFigures& c) { return c.accuracy.beyond; }),
+              median_of(s, [](const CloudFigures& c) { return c.coverage_5mm; }),
+              median_of(s, [](const CloudFigures& c) { return c.coverage_10mm; }),
+              1000 * median_of(s, [](const CloudFigures& c) { return c.tip_gap_m; }), static_cast<long>(tips), n);
+}
+
+void print_row(const std::string& name, const Summary& robot, const Summary& simulated) {
+  std::printf("%-8s", name.c_str());
+  print_figures(robot);
+  std::printf("  |");
+  print_figures(simulated);
+  std::printf("\n");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   toolinc::Command command("check-realism",
-                           "Distance profiles of real reconstructions and of simulated sessions of the same tools");
-  std::string real_dir, stereo = "sgbm";
+                           "The robot's reconstructions of real tools beside simulated sessions of the same tools");
+  std::string real_dir, stereo = "elas", grasp = "recorded";
   int seeds = 4;
   std::uint32_t first_seed = 1;
   auto& cli = command.cli();
@@ -66,8 +76,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   cli.add_option("--seeds", seeds, "Simulated sessions per tool")->capture_default_str()->check(CLI::PositiveNumber);
   cli.add_option("--first-seed", first_seed, "Seed of the first session")->capture_default_str();
-  cli.add_option("--stereo", stereo, "The simulated sessions' stereo model")
-      ->check(CLI::IsMember({"ideal", "sgbm"}))
+  cli.add_option("--stereo", stereo, "The simulated sessions' stereo model, as simulate-session --stereo")
+      ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
+      ->capture_default_str();
+  cli.add_option("--grasp", grasp, "The simulated sessions' grasps, as simulate-session --grasp")
+      ->check(CLI::IsMember({"recorded", "any"}))
       ->capture_default_str();
   return command.run(argc, argv, [&] {
     std::vector<std::filesystem::path> reconstructions;
@@ -77,38 +90,33 @@ int main(int argc, char** argv) {
     }
     std::sort(reconstructions.begin(), reconstructions.end());
     if (reconstructions.empty()) throw toolinc::InputError(real_dir, "no X_rec.ply reconstruction in the folder");
-    std::printf("%-14s %29s   %29s %33s\n", "", "real reconstruction", "simulated merged model",
-                "simulated tooltip error");
-    std::printf("%-14s %9s %9s %7s   %9s %9s %7s %9s %7s %7s %9s\n", "tool", "median", "p90", ">5mm", "median", "p90",
-                ">5mm", "sessions", "<=10mm", "<=20mm", "median");
-    std::vector<DistanceProfile> real_all, simulated_all;
-    TooltipFigures tips_all;
+    std::printf("%-8s %-45s  | %s\n", "", "robot's reconstructions", "simulated sessions");
+    const char* columns = " median    p90   >5mm  cov5 cov10   tip <=10mm";
+    std::printf("%-8s%s  |%s\n", "tool", columns, columns);
+    Summary robot_all, simulated_all;
     for (const auto& rec_path : reconstructions) {
       const std::string rec_name = rec_path.filename().string(), name = rec_name.substr(0, rec_name.size() - 8);
       const auto model_path = rec_path.parent_path() / (name + ".pcd");
       if (!std::filesystem::exists(model_path))
         throw toolinc::InputError(model_path.string(), "no model for the reconstruction " + rec_name);
       const toolinc::PointCloud model = toolinc::load_cloud(model_path.string());
-      const DistanceProfile real = toolinc::reconstruction_profile(model.points, toolinc::load_cloud(rec_path.string()).points);
-      std::vector<DistanceProfile> simulated;
-      TooltipFigures tips;
-      for (const auto& e : toolinc::simulated_sessions(model, name + ".pcd", toolinc::stereo_model_from_string(stereo),
-                                                       first_seed, seeds)) {
-        tips.add(e);
-        tips_all.add(e);
-        if (e.tool.failure.empty())
-          simulated.push_back(e.model);
-        else
-          spdlog::warn("{}: a simulated session failed: {}", name, e.tool.failure);
+      Summary robot, simulated;
+      robot.clouds.push_back(toolinc::reconstruction_figures(model.points, toolinc::load_cloud(rec_path.string()).points,
+                                                              toolinc::is_shovel_name(name)));
+      for (const auto& s : toolinc::simulated_figures(model, name + ".pcd", toolinc::stereo_model_from_string(stereo),
+                                                      toolinc::exploration_grasps_from_string(grasp), first_seed,
+                                                      seeds)) {
+        if (s.merged) {
+          simulated.clouds.push_back(s.figures);
+        } else {
+          ++simulated.failed;
+          spdlog::warn("{}: a simulated session failed: {}", name, s.errors.tool.failure);
+        }
       }
-      real_all.push_back(real);
-      simulated_all.insert(simulated_all.end(), simulated.begin(), simulated.end());
-      print_row(name, real, simulated.empty() ? DistanceProfile{NAN, NAN, NAN} : median_profile(simulated), tips);
+      print_row(name, robot, simulated);
+      robot_all.add(robot);
+      simulated_all.add(simulated);
     }
-    if (simulated_all.empty()) throw toolinc::MethodError("no simulated session merged");
-    const DistanceProfile real = median_profile(real_all), simulated = median_profile(simulated_all);
-    print_row("all", real, simulated, tips_all);
-    std::printf("simulated / real: median %.2f, p90 %.2f, >5mm %.2f (realistic within 0.67-1.5)\n",
-                simulated.median_m / real.median_m, simulated.p90_m / real.p90_m, simulated.beyond / real.beyond);
+    print_row("all", robot_all, simulated_all);
   });
 }

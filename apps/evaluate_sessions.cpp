@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   double tip_tolerance = 0.010;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
-  std::string rule, stereo = "ideal";  // add_tooltip_options sets rule's default
+  std::string rule, stereo = "elas", grasp = "recorded";  // add_tooltip_options sets rule's default
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all, unless --models)");
   cli.add_option("--models", model_inputs,
@@ -59,9 +59,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cli.add_option("--stereo", stereo,
-                 "The sessions' stereo model, as simulate-session --stereo (sgbm: crop drops depth edges, "
+                 "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges, "
                  "crop-cloud --edge-radius 2)")
-      ->check(CLI::IsMember({"ideal", "sgbm"}))
+      ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
+      ->capture_default_str();
+  cli.add_option("--grasp", grasp, "The sessions' grasps, as simulate-session --grasp")
+      ->check(CLI::IsMember({"recorded", "any"}))
       ->capture_default_str();
   cli.add_option("-j,--jobs", jobs, "Sessions evaluated in parallel (the results do not depend on it)")
       ->capture_default_str()
@@ -70,9 +73,10 @@ int main(int argc, char** argv) {
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
   return command.run(argc, argv, [&] {
-    // Block-matched disparity is fattened at depth edges.
-    if (stereo == "sgbm") pipeline.crop.edge_radius_px = toolinc::kSgbmEdgeRadiusPx;
+    // Disparity matched over windows is fattened at depth edges.
+    if (stereo != "ideal") pipeline.crop.edge_radius_px = toolinc::kSgbmEdgeRadiusPx;
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
+    const toolinc::ExplorationGrasps drawn = toolinc::exploration_grasps_from_string(grasp);
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));
     if (families.empty() && model_inputs.empty()) families = toolinc::all_families();
@@ -112,8 +116,9 @@ int main(int argc, char** argv) {
       for (std::size_t i; (i = next++) < cases.size();) {
         const Case& c = cases[i];
         toolinc::SessionSimulatorConfig session =
-            c.model < 0 ? toolinc::family_session(c.family, c.seed)
-                        : toolinc::model_session(models[c.model].cloud, models[c.model].path, models[c.model].symmetry, c.seed);
+            c.model < 0 ? toolinc::family_session(c.family, c.seed, drawn)
+                        : toolinc::model_session(models[c.model].cloud, models[c.model].path, models[c.model].symmetry,
+                                                 c.seed, drawn);
         session.stereo = toolinc::stereo_model_from_string(stereo);
         cases[i].errors = toolinc::evaluate_simulated_session(session, pipeline);
         const std::lock_guard<std::mutex> lock(progress_mutex);

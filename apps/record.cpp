@@ -9,7 +9,6 @@
 #include <memory>
 
 #include "toolinc/app/command.hpp"
-#include "toolinc/core/random.hpp"
 #include "toolinc/record/recorder.hpp"
 #include "toolinc/record/sim_backend.hpp"
 #include "toolinc/record/static_motion.hpp"
@@ -136,9 +135,9 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   cli.add_option("--sim-family", sim_family, "sim: the tool family held")->capture_default_str();
   cli.add_option("--sim-seed", sim_seed, "sim: seed of the grasp and the noise")->capture_default_str();
-  std::string sim_stereo = "ideal";
+  std::string sim_stereo = "elas";
   cli.add_option("--sim-stereo", sim_stereo, "sim: the stereo model, as simulate-session --stereo")
-      ->check(CLI::IsMember({"ideal", "sgbm"}))
+      ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--sim-real-time", sim_real_time, "sim: fraction of the simulated waits really waited")
       ->capture_default_str();
@@ -170,8 +169,7 @@ int main(int argc, char** argv) {
       sim_config.scene.hand = config.hand;
       sim_config.scene.seed = sim_seed;
       sim_config.scene.stereo = toolinc::stereo_model_from_string(sim_stereo);
-      toolinc::Rng rng(sim_seed);  // the grasp as simulate-session draws it
-      sim_config.scene.hand_from_canonical = toolinc::random_grasp(toolinc::exploration_grasp_range(), rng);
+      sim_config.scene.hand_from_canonical = toolinc::exploration_grasp(sim_seed);  // as simulate-session draws it
       if (!sim_silent.empty()) sim_config.silent = toolinc::stream_from_string(sim_silent);
       clock = std::make_unique<toolinc::SimulatedClock>(sim_real_time);
       sim = std::make_unique<toolinc::SimRobot>(sim_config, *clock);

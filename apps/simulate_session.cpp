@@ -12,7 +12,6 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/synth/evaluation.hpp"
-#include "toolinc/core/random.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
@@ -45,7 +44,7 @@ std::array<int, 3> parse_colour(const std::string& text) {
 int main(int argc, char** argv) {
   toolinc::Command command("simulate-session", "Simulate a recorded tool-exploration session with ground truth");
   toolinc::SessionSimulatorConfig config;
-  std::string family = "hoe", model_file, symmetry = "measured", grasp = "random", label, colour;
+  std::string family = "hoe", model_file, symmetry = "measured", grasp = "recorded", label, colour;
   std::vector<std::string> gross_errors;
   double kinematic_mm = config.kinematic_error_m * 1000.0;
   bool no_points = false, no_blob = false;
@@ -61,8 +60,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"measured", "mirror", "front_back", "fourfold", "axial"}))
       ->capture_default_str();
   cli.add_option("--seed", config.seed, "Seed of the grasp, the errors and the noise")->capture_default_str();
-  cli.add_option("--grasp", grasp, "random (drawn from the seed) or canonical (identity)")
-      ->check(CLI::IsMember({"random", "canonical"}))
+  cli.add_option("--grasp", grasp,
+                 "recorded (drawn from the seed within the range of the lab's real sessions), any (drawn from "
+                 "the seed, the effector facing anywhere about the handle) or canonical (identity)")
+      ->check(CLI::IsMember({"recorded", "any", "canonical"}))
       ->capture_default_str();
   cli.add_option("--hand", config.hand, "left or right")->check(CLI::IsMember({"left", "right"}))->capture_default_str();
   cli.add_option("--label", label, "The tool's label recorded in session.json");
@@ -80,15 +81,16 @@ int main(int argc, char** argv) {
                  "rotation (random direction and axis); repeatable");
   std::string stereo = toolinc::to_string(config.stereo);
   cli.add_option("--stereo", stereo,
-                 "ideal: the true disparity plus Gaussian noise; sgbm: both eyes rendered (textured, lit) and "
-                 "matched by the iCub stereo module's StereoSGBM")
-      ->check(CLI::IsMember({"ideal", "sgbm"}))
+                 "elas: both eyes rendered (textured, lit) and matched as the iCub stereo module SFM does by "
+                 "default (LIBELAS); sgbm: the same matched by SFM --use_sgbm's StereoSGBM; ideal: the true "
+                 "disparity plus Gaussian noise")
+      ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--disparity-noise", config.disparity_noise_px, "ideal: sigma of the disparity (px)")->capture_default_str();
   cli.add_option("--pixel-noise", config.pixel_noise, "Sigma of the sensor noise per colour channel (grey levels)")
       ->capture_default_str();
   cli.add_flag("--renderer-blob", config.renderer_blob,
-               "sgbm: blob.png is the renderer's hand-and-tool mask, not the disparity's closest blob");
+               "sgbm, elas: blob.png is the renderer's hand-and-tool mask, not the disparity's closest blob");
   cli.add_flag("--no-points", no_points, "Do not write points.pcd");
   cli.add_flag("--no-blob", no_blob, "Do not write blob.png");
   cli.add_option("--created", config.created, "The session's creation time (ISO 8601)")->capture_default_str();
@@ -102,7 +104,9 @@ int main(int argc, char** argv) {
       config.model_symmetry = symmetry == "measured" ? toolinc::measure_symmetry(config.model.points)
                                                      : toolinc::symmetry_from_string(symmetry);
     }
-    if (grasp == "random") config.hand_from_canonical = toolinc::exploration_grasp(config.seed);
+    if (grasp != "canonical")
+      config.hand_from_canonical =
+          toolinc::exploration_grasp(config.seed, toolinc::exploration_grasps_from_string(grasp));
     if (!label.empty()) config.tool_label = label;
     if (!colour.empty()) config.tool_rgb = parse_colour(colour);
     config.kinematic_error_m = kinematic_mm / 1000.0;

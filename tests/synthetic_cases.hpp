@@ -4,9 +4,17 @@
 #include <vector>
 
 #include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/session_simulator.hpp"
 #include "toolinc/synth/tool_generator.hpp"
 
 namespace toolinc::testing {
+
+// The generated families' regression mode: ideal stereo and the `any` grasps the floors were measured on.
+inline SessionSimulatorConfig ideal_family_session(ToolFamily family, std::uint32_t seed) {
+  SessionSimulatorConfig config = family_session(family, seed, ExplorationGrasps::any);
+  config.stereo = StereoModel::ideal;
+  return config;
+}
 
 struct HeldToolCase {
   ToolShape shape;

@@ -138,6 +138,7 @@ TEST(AppearanceSha256, PaddingBoundaries) {  // lengths around the 56-byte paddi
 // the ground truth are those of the same seed in any colour; the colour shows on the tool's pixels alone.
 TEST(AppearanceSimulator, ColourChangesTheImageNotTheGeometry) {
   SessionSimulatorConfig config = family_session(ToolFamily::rake, 7);
+  config.stereo = StereoModel::ideal;  // a matcher sees the colour's contrast; the geometry is the renderer's
   config.write_points = false;
   config.tool_rgb = std::array<int, 3>{128, 128, 128};
   const SimulatedSession grey = simulate_session(config);

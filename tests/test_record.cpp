@@ -31,8 +31,8 @@ namespace {
 SimBackendConfig sim_config(std::uint32_t seed = 4) {
   SimBackendConfig config;
   config.scene.seed = seed;
-  Rng rng(seed);
-  config.scene.hand_from_canonical = random_grasp(exploration_grasp_range(), rng);
+  config.scene.stereo = StereoModel::ideal;  // the recorder's mechanics, not the matcher
+  config.scene.hand_from_canonical = exploration_grasp(seed);
   return config;
 }
 
@@ -333,12 +333,13 @@ TEST(RecordApp, SimBackendEndToEndAndASilentPort) {
 }
 
 TEST(RecordApp, SimBackendWithSgbmStereo) {
-  // The simulated robot's stereo module can be SGBM's too: a whole session, other disparities than ideal's.
+  // The simulated robot's stereo module can be SGBM's too (ELAS by default): a whole session, other
+  // disparities than ideal's.
   const auto dir = scratch_dir("record-app-sgbm");
   const auto sgbm = run_tool("record", "--backend sim --sim-stereo sgbm -q -o " + (dir / "sgbm").string());
   ASSERT_EQ(sgbm.exit_code, 0) << sgbm.err;
   expect_readable(dir / "sgbm", 5);
-  const auto ideal = run_tool("record", "--backend sim -q -o " + (dir / "ideal").string());
+  const auto ideal = run_tool("record", "--backend sim --sim-stereo ideal -q -o " + (dir / "ideal").string());
   ASSERT_EQ(ideal.exit_code, 0) << ideal.err;
   EXPECT_NE(slurp(dir / "sgbm" / "views" / "000" / "disparity.png"), slurp(dir / "ideal" / "views" / "000" / "disparity.png"));
 }

@@ -25,8 +25,10 @@ using testing::run_tool;
 using testing::scratch_dir;
 using testing::slurp;
 
+// Ideal stereo unless a test asks for a matcher: the renderer's geometry, exactly.
 SessionSimulatorConfig config_for(std::uint32_t seed, ToolFamily family = ToolFamily::hoe) {
   SessionSimulatorConfig config;
+  config.stereo = StereoModel::ideal;
   config.shape = default_shape(family);
   config.seed = seed;
   Rng rng(seed);

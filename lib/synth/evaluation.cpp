@@ -90,6 +90,7 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, c
   errors.model_median_m = errors.model.median_m;
   errors.tool = frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame,
                                          pipeline.tooltip);
+  errors.merged = std::move(merged.model.points);
   return errors;
 }
 

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace toolinc {
 namespace {
@@ -10,9 +11,9 @@ constexpr double kDeg = M_PI / 180.0;
 }
 
 Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng) {
-  const double about = rng.uniform(-1, 1) * range.about_handle_deg * kDeg;
+  const double about = (range.about_handle_centre_deg + rng.uniform(-1, 1) * range.about_handle_deg) * kDeg;
   const double tilt = (range.tilt_centre_deg + rng.uniform(-1, 1) * range.tilt_deg) * kDeg;
-  const double roll = rng.uniform(-1, 1) * range.roll_deg * kDeg;
+  const double roll = (range.roll_centre_deg + rng.uniform(-1, 1) * range.roll_deg) * kDeg;
   Vec3 offset;
   for (int i = 0; i < 3; ++i) offset[i] = range.offset_centre[i] + rng.uniform(-1, 1) * range.offset;
   Eigen::Matrix4d grasp = Eigen::Matrix4d::Identity();
@@ -23,20 +24,37 @@ Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng) {
   return grasp;
 }
 
-GraspRange exploration_grasp_range() {
+ExplorationGrasps exploration_grasps_from_string(const std::string& name) {
+  if (name == "recorded") return ExplorationGrasps::recorded;
+  if (name == "any") return ExplorationGrasps::any;
+  throw std::invalid_argument("unknown exploration grasps \"" + name + "\" (recorded, any)");
+}
+
+std::string to_string(ExplorationGrasps grasps) { return grasps == ExplorationGrasps::recorded ? "recorded" : "any"; }
+
+GraspRange exploration_grasp_range(ExplorationGrasps grasps) {
   GraspRange range;
-  range.about_handle_deg = 90.0;
-  range.tilt_centre_deg = 22.5;
-  range.tilt_deg = 22.5;
-  range.roll_deg = 10.0;
   range.offset_centre = Vec3(0.035, 0.0, 0.0);
   range.offset = 0.015;
+  if (grasps == ExplorationGrasps::recorded) {
+    range.about_handle_centre_deg = -135.0;
+    range.about_handle_deg = 45.0;
+    range.tilt_centre_deg = 39.5;
+    range.tilt_deg = 8.5;
+    range.roll_centre_deg = 12.5;
+    range.roll_deg = 4.0;
+  } else {
+    range.roll_deg = 10.0;
+    range.about_handle_deg = 90.0;
+    range.tilt_centre_deg = 22.5;
+    range.tilt_deg = 22.5;
+  }
   return range;
 }
 
-Eigen::Matrix4d exploration_grasp(std::uint32_t seed) {
+Eigen::Matrix4d exploration_grasp(std::uint32_t seed, ExplorationGrasps grasps) {
   Rng rng(seed);
-  return random_grasp(exploration_grasp_range(), rng);
+  return random_grasp(exploration_grasp_range(grasps), rng);
 }
 
 GraspRange any_grasp_range() {

@@ -9,6 +9,7 @@
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/session/blob.hpp"
+#include "toolinc/synth/elas_stereo.hpp"
 #include "toolinc/synth/sfm_stereo.hpp"
 
 namespace toolinc::scene {
@@ -127,7 +128,7 @@ RenderModel render_model(const SessionSimulatorConfig& config) {
     }
     model.spacing = median_neighbour_distance(model.points);
   }
-  if (config.stereo == StereoModel::sgbm)
+  if (config.stereo != StereoModel::ideal)
     for (std::size_t i = 0; i < model.points.size(); ++i)
       model.colours[i] *= texture(model.points[i], kToolTextureScale, config.tool_texture);
   return model;
@@ -154,7 +155,7 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
   const Rotation root_r = root_from_camera.topLeftCorner<3, 3>(), hand_r = hand_from_camera.topLeftCorner<3, 3>();
   const Vec3 eye = root_from_camera.topRightCorner<3, 1>(), eye_in_hand = hand_from_camera.topRightCorner<3, 1>();
   const Vec3 &lo = hand.lo, &hi = hand.hi;
-  const bool lit = config.stereo == StereoModel::sgbm;
+  const bool lit = config.stereo != StereoModel::ideal;
   const Vec3 light = config.light_direction.normalized(), light_in_hand = hand_r * root_r.transpose() * light;
   const Look look = scene_look(config);
   for (int v = 0; v < render.height; ++v)
@@ -230,7 +231,7 @@ Render render_scene(const SessionSimulatorConfig& config, const RenderModel& mod
   const Lighting lighting{root_from_camera.topLeftCorner<3, 3>().transpose() * config.light_direction.normalized(),
                           config.ambient};
   render_tool(model, config.camera, inverse(root_from_camera) * root_from_hand * config.hand_from_canonical, render,
-              config.stereo == StereoModel::sgbm ? &lighting : nullptr);
+              config.stereo != StereoModel::ideal ? &lighting : nullptr);
   return render;
 }
 
@@ -299,7 +300,9 @@ ViewData observe_stereo(const Render& left, const Render& right, const SessionSi
   const CameraModel& camera = config.camera;
   ViewData data;
   data.left = camera_image(left, config.pixel_noise, rng);
-  const cv::Mat disparity16 = sfm_disparity16(data.left, camera_image(right, config.pixel_noise, rng), config.sfm);
+  const cv::Mat right_image = camera_image(right, config.pixel_noise, rng);
+  const cv::Mat disparity16 = config.stereo == StereoModel::elas ? elas_disparity16(data.left, right_image, config.elas)
+                                                                 : sfm_disparity16(data.left, right_image, config.sfm);
   data.disparity = sfm_disparity8(disparity16, config.sfm);
   if (config.write_points) {
     // SFM's RPC: the unfiltered 16x disparity through the rectified pair's reprojection; no match -> NaN.

@@ -95,10 +95,18 @@ TruthTip tool_truth_tip(const SessionSimulatorConfig& config) {
 StereoModel stereo_model_from_string(const std::string& name) {
   if (name == "ideal") return StereoModel::ideal;
   if (name == "sgbm") return StereoModel::sgbm;
-  throw std::invalid_argument("unknown stereo model \"" + name + "\" (ideal, sgbm)");
+  if (name == "elas") return StereoModel::elas;
+  throw std::invalid_argument("unknown stereo model \"" + name + "\" (ideal, sgbm, elas)");
 }
 
-std::string to_string(StereoModel model) { return model == StereoModel::ideal ? "ideal" : "sgbm"; }
+std::string to_string(StereoModel model) {
+  switch (model) {
+    case StereoModel::ideal: return "ideal";
+    case StereoModel::sgbm: return "sgbm";
+    case StereoModel::elas: return "elas";
+  }
+  return "";
+}
 
 const std::vector<std::array<int, 3>>& tool_palette() {
   static const std::vector<std::array<int, 3>> palette = {{128, 128, 128}, {50, 50, 55},   {190, 40, 35},
@@ -116,22 +124,22 @@ Pose camera_looking_at(const Vec3& eye, const Vec3& target) {
   return rigid(r, eye);
 }
 
-SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed) {
+SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed, ExplorationGrasps grasps) {
   SessionSimulatorConfig config;
   config.shape = default_shape(family);
   config.seed = seed;
-  config.hand_from_canonical = exploration_grasp(seed);
+  config.hand_from_canonical = exploration_grasp(seed, grasps);
   return config;
 }
 
 SessionSimulatorConfig model_session(const PointCloud& model, const std::string& name, ToolSymmetry symmetry,
-                                     std::uint32_t seed) {
+                                     std::uint32_t seed, ExplorationGrasps grasps) {
   SessionSimulatorConfig config;
   config.model = model;
   config.model_name = name;
   config.model_symmetry = symmetry;
   config.seed = seed;
-  config.hand_from_canonical = exploration_grasp(seed);
+  config.hand_from_canonical = exploration_grasp(seed, grasps);
   return config;
 }
 

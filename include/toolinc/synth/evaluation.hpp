@@ -47,6 +47,7 @@ struct SessionErrors {
   int views_rejected = 0;         // by crop-cloud (too few points) or merge-views
   double model_median_m = 0.0;    // median distance from the merged model to the true surface
   DistanceProfile model;          // the merged model's whole distance profile to the true surface
+  Points merged;                  // the merged model (hand frame), empty when the merge failed
   HeldToolErrors tool;            // of the frame and tooltip; failure also says when the merge failed
 };
 

@@ -13,24 +13,37 @@
 namespace toolinc {
 
 struct GraspRange {
-  double about_handle_deg = 90.0;  // rotation about the handle, uniform in +/- this
+  double about_handle_deg = 90.0;  // rotation about the handle, uniform in about_handle_centre_deg +/- this
   double tilt_deg = 45.0;          // about the hand's Z, uniform in tilt_centre_deg +/- this
-  double roll_deg = 15.0;          // about the hand's X
+  double roll_deg = 15.0;          // about the hand's X, uniform in roll_centre_deg +/- this
   double offset = 0.05;            // m, uniform in offset_centre +/- this along each axis
   double tilt_centre_deg = 0.0;
+  double about_handle_centre_deg = 0.0;
+  double roll_centre_deg = 0.0;
   Vec3 offset_centre = Vec3::Zero();
 };
 
 // hand_from_canonical = Translation(offset) * Rz(tilt) * Rx(roll) * Ry(about handle).
 Eigen::Matrix4d random_grasp(const GraspRange& range, Rng& rng);
 
+// How exploration grasps are drawn: `recorded`, as the lab held its tools in the robot's real sessions
+// (measured by placing the true models on the robot's reconstructions); `any`, the earlier default,
+// drawn without regard to where the effector faces (half of the turns about the handle, most of them
+// away from the robot's eyes): the robustness mode, and the regression mode of the generated families.
+enum class ExplorationGrasps { recorded, any };
+ExplorationGrasps exploration_grasps_from_string(const std::string& name);  // "recorded" | "any"
+std::string to_string(ExplorationGrasps grasps);
+
 // Grasps as the robot gets them during exploration: the handle held in the fingers, 2-5 cm in front of
-// the palm (+X, as in the original's reconstructions), leaning forward by 0-45 degrees (the original's
-// default tilt is 45), any rotation about the handle within +/-90 degrees. The tool then lies in the
-// original's crop box.
-GraspRange exploration_grasp_range();
-// The grasp simulate-session draws for a seed: random_grasp(exploration_grasp_range()) from Rng(seed).
-Eigen::Matrix4d exploration_grasp(std::uint32_t seed);
+// the palm (+X, as in the original's reconstructions). recorded: as the lab's sessions held them (the
+// true models placed on the robot's reconstructions: the handle leaning 31-48 degrees, tilt 33-45 and
+// roll 9-16 on the five real tools, the effector turned by -90 to -180 degrees about the handle, towards
+// the robot's eyes: hoes and hooks sideways, rakes and shovels back at the robot); any: leaning by 0-45
+// degrees (the original's default tilt is 45), no roll centre, turned by up to +/-90 degrees about the
+// handle. The tool then lies in the original's crop box.
+GraspRange exploration_grasp_range(ExplorationGrasps grasps = ExplorationGrasps::recorded);
+// The grasp simulate-session draws for a seed: random_grasp(exploration_grasp_range(grasps)) from Rng(seed).
+Eigen::Matrix4d exploration_grasp(std::uint32_t seed, ExplorationGrasps grasps = ExplorationGrasps::recorded);
 
 // The grasps align-pose must cope with: any rotation about the handle, tilt +/-60 deg, roll +/-15 deg,
 // offsets +/-5 cm.

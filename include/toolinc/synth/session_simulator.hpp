@@ -16,6 +16,7 @@
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/record/exploration.hpp"
 #include "toolinc/session/session.hpp"
+#include "toolinc/synth/elas_stereo.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/sfm_stereo.hpp"
 #include "toolinc/synth/tool_generator.hpp"
@@ -33,11 +34,12 @@ struct GrossError {
   double rotation_deg = 0.0;
 };
 
-// How the disparity is made: `ideal`, the truth plus Gaussian noise at every pixel of the scene; `sgbm`,
-// both cameras rendered and matched by the stereo module's StereoSGBM (sfm_stereo.hpp).
-enum class StereoModel { ideal, sgbm };
+// How the disparity is made: `ideal`, the truth plus Gaussian noise at every pixel of the scene; `sgbm`
+// and `elas`, both cameras rendered and matched as the stereo module SFM does, with `SFM --use_sgbm`
+// (StereoSGBM, sfm_stereo.hpp) or by default (LIBELAS, elas_stereo.hpp).
+enum class StereoModel { ideal, sgbm, elas };
 
-StereoModel stereo_model_from_string(const std::string& name);  // "ideal" | "sgbm", else invalid_argument
+StereoModel stereo_model_from_string(const std::string& name);  // "ideal" | "sgbm" | "elas", else invalid_argument
 std::string to_string(StereoModel model);
 
 struct SessionSimulatorConfig {
@@ -58,22 +60,24 @@ struct SessionSimulatorConfig {
   double kinematic_error_deg = 1.5;
   std::vector<GrossError> gross_errors;  // applied on top of the kinematic error
 
-  StereoModel stereo = StereoModel::ideal;
+  StereoModel stereo = StereoModel::elas;
   double disparity_noise_px = 0.15;  // ideal: Gaussian, on the sub-pixel disparity (depth sigma = z^2 sigma / (fx b))
   double pixel_noise = 2.0;          // Gaussian sensor noise per colour channel of each image, in grey levels
 
-  // sgbm: the right eye is the left one moved by camera.baseline along its x (a rectified pair); the
-  // disparity is SFM's (sfm), the points are triangulated from its 16x disparity as SFM's RPC does, and
-  // blob.png is the closest blob of the published disparity (dispBlobber) unless renderer_blob, which
-  // keeps the renderer's hand-and-tool mask.
+  // sgbm and elas: the right eye is the left one moved by camera.baseline along its x (a rectified pair);
+  // the disparity is SFM's (sfm; elas matches with `elas`, then SFM's 8-bit scaling and bilateral filter
+  // of `sfm`), the points are triangulated from its 16x disparity as SFM's RPC does, and blob.png is the
+  // closest blob of the published disparity (dispBlobber) unless renderer_blob, which keeps the
+  // renderer's hand-and-tool mask.
   SfmStereoConfig sfm;
+  ElasConfig elas;
   bool renderer_blob = false;
-  // sgbm's scene: Lambertian surfaces lit from light_direction (root frame, towards the light: above
+  // sgbm's and elas's scene: Lambertian surfaces lit from light_direction (root frame, towards the light: above
   // and in front of the robot) plus ambient light, each surface's albedo modulated by a fixed texture
   // (value noise in the surface's own frame, so both eyes see the same) of this relative contrast:
   Eigen::Vector3d light_direction{-0.5, 0.3, 1.0};
   double ambient = 0.3;         // share of the light that does not depend on the surface's orientation
-  double tool_texture = 0.03;   // a plain-coloured tool: paint or plastic, almost uniform
+  double tool_texture = 0.12;   // a plain-coloured tool: moulded plastic or paint with its scuffs and dirt
   double hand_texture = 0.10;   // skin or glove
   double table_texture = 0.30;  // wood grain and stains, on top of the grain's stripes
   double wall_texture = 0.30;   // posters, shelves, paint
@@ -118,12 +122,13 @@ Eigen::Matrix4d camera_looking_at(const Eigen::Vector3d& eye, const Eigen::Vecto
 // green, as lab tools are.
 const std::vector<std::array<int, 3>>& tool_palette();
 
-// What simulate-session --family F --seed S records: the family's default shape held with
-// exploration_grasp(S), everything else at its default.
-SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed);
+// What simulate-session --family F --seed S [--grasp G] records: the family's default shape held with
+// exploration_grasp(S, G), everything else at its default.
+SessionSimulatorConfig family_session(ToolFamily family, std::uint32_t seed,
+                                      ExplorationGrasps grasps = ExplorationGrasps::recorded);
 // The same for a canonical model (simulate-session --model FILE --seed S): its symmetry as given.
 SessionSimulatorConfig model_session(const PointCloud& model, const std::string& name, ToolSymmetry symmetry,
-                                     std::uint32_t seed);
+                                     std::uint32_t seed, ExplorationGrasps grasps = ExplorationGrasps::recorded);
 
 // The configured tool's symmetry and true tooltip rule (a model's from its name's kind, model_kinds.hpp).
 ToolSymmetry tool_symmetry(const SessionSimulatorConfig& config);
