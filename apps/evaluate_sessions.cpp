@@ -136,21 +136,26 @@ int main(int argc, char** argv) {
     const std::string within_header = fmt::format("tip<={:g}mm", tolerance_mm);
     // "true frame": the tooltip rule on the same merged model with the true frame, so that a miss the
     // frame causes tells itself from one the cloud causes (the tip not seen, points off the tool before it).
-    std::fprintf(table, "%-9s %8s %10s %13s %9s %9s %9s %8s %10s\n", models.empty() ? "family" : "kind", "sessions",
-                 within_header.c_str(), "95% interval", "tip med", "tip max", "model med", "failed", "true frame");
+    // "confident": sessions whose tooltip said confident, and of those the share within 15 mm (a wrong
+    // tip said confident is the harmful kind).
+    std::fprintf(table, "%-9s %8s %10s %13s %9s %9s %9s %8s %10s %9s %24s\n", models.empty() ? "family" : "kind",
+                 "sessions", within_header.c_str(), "95% interval", "tip med", "tip max", "model med", "failed",
+                 "true frame", "confident", "confident: tip<=15mm");
     toolinc::Json results = toolinc::Json::array(), summary = toolinc::Json::array();
-    int total = 0, total_within = 0, total_true_frame = 0;
+    int total = 0, total_within = 0, total_true_frame = 0, total_confident = 0, total_confident_within_15 = 0;
     // Failed sessions count as sessions whose tooltip is wrong.
-    const auto rate = [&](const std::string& name, int within, int sessions, int within_true_frame) {
+    const auto rate = [&](const std::string& name, int within, int sessions, int within_true_frame, int confident,
+                          int confident_within_15) {
       const auto [lo, hi] = toolinc::wilson_interval(within, sessions);
       summary.push_back({{"family", name}, {"sessions", sessions}, {"tooltip_within_tolerance", within},
                          {"rate", static_cast<double>(within) / sessions}, {"rate_interval_95", {lo, hi}},
-                         {"tooltip_within_tolerance_true_frame", within_true_frame}});
+                         {"tooltip_within_tolerance_true_frame", within_true_frame}, {"confident", confident},
+                         {"confident_tooltip_within_15mm", toolinc::rate_json(name, confident_within_15, confident)}});
       return fmt::format("{:.1f}-{:.1f}%", 100 * lo, 100 * hi);
     };
     for (const auto& group : groups) {
       std::vector<double> tips, model_medians;
-      int within = 0, within_true_frame = 0, failed = 0, sessions = 0;
+      int within = 0, within_true_frame = 0, failed = 0, sessions = 0, confident = 0, confident_within_15 = 0;
       for (const auto& c : cases) {
         if (c.group != group) continue;
         ++sessions;
@@ -162,7 +167,8 @@ int main(int argc, char** argv) {
                                                               ? toolinc::Json(e.tool.tooltip_true_frame_m) : toolinc::Json()},
                            {"handle_axis_error_deg", e.tool.handle_axis_deg},
                            {"symmetry_plane_error_deg", e.tool.symmetry_plane_deg},
-                           {"effector_sign_right", e.tool.effector_sign_right}, {"model_median_m", e.model_median_m},
+                           {"effector_sign_right", e.tool.effector_sign_right}, {"confident", e.tool.confident},
+                           {"model_median_m", e.model_median_m},
                            {"views_rejected", e.views_rejected}, {"failure", e.tool.failure}});
         if (!e.tool.failure.empty()) {
           ++failed;
@@ -173,21 +179,29 @@ int main(int argc, char** argv) {
         model_medians.push_back(e.model_median_m);
         within += e.tool.tooltip_m <= tip_tolerance;
         within_true_frame += e.tool.tooltip_true_frame_m <= tip_tolerance;
+        confident += e.tool.confident;
+        confident_within_15 += e.tool.confident && e.tool.tooltip_m <= 0.015;
       }
       total += sessions;
       total_within += within;
       total_true_frame += within_true_frame;
+      total_confident += confident;
+      total_confident_within_15 += confident_within_15;
       const double worst = tips.empty() ? NAN : *std::max_element(tips.begin(), tips.end());
-      const std::string interval = rate(group, within, sessions, within_true_frame);
-      std::fprintf(table, "%-9s %8d %9.1f%% %13s %7.1fmm %7.1fmm %7.2fmm %8d %9.1f%%\n", group.c_str(), sessions,
-                   100.0 * within / sessions, interval.c_str(), 1000 * toolinc::median(tips), 1000 * worst,
-                   1000 * toolinc::median(model_medians), failed, 100.0 * within_true_frame / sessions);
+      const std::string interval = rate(group, within, sessions, within_true_frame, confident, confident_within_15);
+      std::fprintf(table, "%-9s %8d %9.1f%% %13s %7.1fmm %7.1fmm %7.2fmm %8d %9.1f%% %9d %24s\n", group.c_str(),
+                   sessions, 100.0 * within / sessions, interval.c_str(), 1000 * toolinc::median(tips), 1000 * worst,
+                   1000 * toolinc::median(model_medians), failed, 100.0 * within_true_frame / sessions, confident,
+                   toolinc::rate_text(confident_within_15, confident).c_str());
     }
-    const std::string interval = rate("all", total_within, total, total_true_frame);
+    const std::string interval =
+        rate("all", total_within, total, total_true_frame, total_confident, total_confident_within_15);
     std::fprintf(table, "all: tooltip within %g mm in %d of %d sessions (%.1f%%, 95%% interval %s)\n", tolerance_mm,
                  total_within, total, 100.0 * total_within / total, interval.c_str());
     std::fprintf(table, "with the true frame: within %g mm in %d of %d sessions (%.1f%%)\n", tolerance_mm,
                  total_true_frame, total, 100.0 * total_true_frame / total);
+    std::fprintf(table, "confident: %d of %d sessions, of which tooltip within 15 mm %s\n", total_confident, total,
+                 toolinc::rate_text(total_confident_within_15, total_confident).c_str());
     if (!command.output().empty())
       toolinc::write_json(command.output(), {{"type", "session_evaluation"}, {"version", 1},
                                              {"first_seed", first_seed}, {"grasps", grasps},
