@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "toolinc/app/command.hpp"
+#include "toolinc/app/options.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -23,9 +24,9 @@ int main(int argc, char** argv) {
   auto* view_option = cli.add_option("--view", view, "The view to crop (index in session.json)")->capture_default_str();
   cli.add_flag("--all", all, "Crop every view into the output folder (view_NNN.ply)")->excludes(view_option);
   command.add_output("Output PLY, or a folder with --all");
-  cli.add_option("--box-min", box_min, "Hand-frame crop box minimum x y z (m; right hand, mirrored in z for the left)")
-      ->expected(3)->capture_default_str();
-  cli.add_option("--box-max", box_max, "Hand-frame crop box maximum x y z (m)")->expected(3)->capture_default_str();
+  toolinc::add_xyz_option(cli, "--box-min", box_min,
+                          "Hand-frame crop box minimum x y z (m; right hand, mirrored in z for the left)");
+  toolinc::add_xyz_option(cli, "--box-max", box_max, "Hand-frame crop box maximum x y z (m)");
   cli.add_option("--hand-radius", config.hand_radius, "Points this close to the hand origin are the hand's (m)")
       ->capture_default_str();
   cli.add_option("--outlier-neighbors", config.outlier_neighbors, "Statistical outlier removal: k")->capture_default_str();

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "toolinc/app/command.hpp"
+#include "toolinc/app/options.hpp"
 #include "toolinc/record/recorder.hpp"
 #include "toolinc/record/sim_backend.hpp"
 #include "toolinc/record/static_motion.hpp"
@@ -83,17 +84,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_option("--label", label, "The tool's label recorded in session.json");
   cli.add_option("--poses", poses, "Wrist X Y pairs (deg), in order; |X| <= 90 and |Y| <= 70")->capture_default_str();
-  cli.add_option("--hand-position", hand_position,
-                 "Root-frame hand position for the right hand (m; y mirrored for the left)")
-      ->expected(3)
-      ->capture_default_str();
-  cli.add_option("--other-arm-position", other_position, "Where the other arm goes first (right-hand y, mirrored; m)")
-      ->expected(3)
-      ->capture_default_str();
+  toolinc::add_xyz_option(cli, "--hand-position", hand_position,
+                          "Root-frame hand position for the right hand (m; y mirrored for the left)");
+  toolinc::add_xyz_option(cli, "--other-arm-position", other_position,
+                          "Where the other arm goes first (right-hand y, mirrored; m)");
   cli.add_flag("--no-other-arm", no_other_arm, "Leave the other arm where it is");
-  cli.add_option("--first-guess", first_guess, "First fixation in the hand frame (m)")
-      ->expected(3)
-      ->capture_default_str();
+  toolinc::add_xyz_option(cli, "--first-guess", first_guess, "First fixation in the hand frame (m)");
   cli.add_option("--gaze-iterations", config.gaze.refine_iterations, "Re-fixations from the blob, at most")
       ->capture_default_str();
   cli.add_option("--gaze-fraction", config.gaze.refine_fraction, "Fixate this far from the hand to the blob's far end")

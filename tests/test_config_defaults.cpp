@@ -141,6 +141,12 @@ TEST(ConfigDefaults, CropCloudShippedConfigHoldsTheDefaults) {
   const auto a = read_cloud((dir / "plain.ply").string()), b = read_cloud((dir / "configured.ply").string());
   ASSERT_GT(a.size(), 300u);
   EXPECT_EQ(a.points, b.points);
+  // The default box given on the command line, before the session: three numbers each, then the
+  // session folder is the positional argument again.
+  const auto boxed = run_tool("crop-cloud", "--box-min 0 -0.40 -0.20 --box-max 0.40 0 0.20 " + args +
+                                                (dir / "boxed.ply").string());
+  ASSERT_EQ(boxed.exit_code, 0) << boxed.err;
+  EXPECT_EQ(read_cloud((dir / "boxed.ply").string()).points, a.points);
 }
 
 }  // namespace

@@ -9,6 +9,8 @@ KdTree::KdTree(const Points& points, int leaf_size) : points_(points), order_(po
   std::iota(order_.begin(), order_.end(), 0u);
   nodes_.reserve(2 * points.size() / std::max(1, leaf_size) + 1);
   if (!points.empty()) build(0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size));
+  ordered_.reserve(points.size());
+  for (const auto index : order_) ordered_.push_back(points[index]);
 }
 
 std::int32_t KdTree::build(std::uint32_t begin, std::uint32_t end, int leaf_size) {
@@ -54,9 +56,8 @@ void KdTree::search(const Vec3& query, double& bound2, Visit&& visit) const {
     const Node& node = nodes_[item.node];
     if (node.split_dim < 0) {
       for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const std::uint32_t index = order_[i];
-        const double d2 = (points_[index] - query).squaredNorm();
-        if (d2 <= bound2) visit(index, d2);
+        const double d2 = (ordered_[i] - query).squaredNorm();
+        if (d2 <= bound2) visit(order_[i], d2);
       }
       continue;
     }

@@ -96,6 +96,11 @@ void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
 }
 
+CLI::Option* add_xyz_option(CLI::App& cli, const std::string& name, std::vector<double>& xyz,
+                            const std::string& description) {
+  return cli.add_option(name, xyz, description)->expected(3)->allow_extra_args(false)->capture_default_str();
+}
+
 void add_merge_options(CLI::App& cli, MergeConfig& config) {
   cli.add_option("--voxel-size", config.voxel_size, "Model grid (m)")->capture_default_str();
   cli.add_option("--max-translation", config.max_translation, "Largest correction per axis (m)")->capture_default_str();

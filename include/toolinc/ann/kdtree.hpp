@@ -46,6 +46,7 @@ class KdTree {
 
   const Points& points_;
   std::vector<std::uint32_t> order_;
+  Points ordered_;  // points_ in order_'s order: a leaf's points lie side by side in memory
   std::vector<Node> nodes_;
 };
 

@@ -18,6 +18,11 @@ void add_tooltip_options(CLI::App& cli, TooltipConfig& config, std::string& rule
 void add_merge_options(CLI::App& cli, MergeConfig& config);
 void add_align_pose_options(CLI::App& cli, AlignPoseConfig& config);
 
+// An option of exactly three numbers (x y z), its default shown; it takes no more, so a positional
+// argument may follow it (`--box-max 0.4 0 0.2 SESSION`).
+CLI::Option* add_xyz_option(CLI::App& cli, const std::string& name, std::vector<double>& xyz,
+                            const std::string& description);
+
 // The model align-pose fits a view to. Throws InputError naming the file when model and view are in
 // different units or the model is not usable as a tool model (its frame cannot be estimated).
 PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const AlignPoseConfig& config,

@@ -16,10 +16,12 @@ namespace toolinc {
 constexpr int kSgbmEdgeRadiusPx = 2;
 
 struct CropConfig {
-  // The hand-frame box the tool can occupy (the original's crop, inclusive); for the left hand its Z
-  // range is mirrored (z -> -z), since the hands' frames are mirror images about the body's midplane.
-  Eigen::Vector3d box_min{0.0, -0.30, -0.15};
-  Eigen::Vector3d box_max{0.35, 0.0, 0.15};
+  // The hand-frame box the tool can occupy (inclusive): a tool reaches up to 40 cm from the hand, its
+  // head up to 20 cm to either side of the handle's plane (the original's y >= -0.30 m cut the far end
+  // of 33-39 cm tools held upright). For the left hand its Z range is mirrored (z -> -z), since the
+  // hands' frames are mirror images about the body's midplane.
+  Eigen::Vector3d box_min{0.0, -0.40, -0.20};
+  Eigen::Vector3d box_max{0.40, 0.0, 0.20};
   double hand_radius = 0.08;      // m: points this close to the hand origin are the hand's (exploration value)
   int outlier_neighbors = 10;     // statistical outlier removal: k ...
   double outlier_std = 3.0;       // ... and the deviations allowed (the original's k 10, 3 sigma)
