@@ -1,23 +1,33 @@
-// check-realism REAL_TOOLS_DIR [--seeds N] [--first-seed S] [--stereo elas|sgbm|ideal] [--grasp recorded|any]:
-// the robot's own reconstructions of real tools (X_rec.ply, hand frame) against the tools' models (X.pcd,
-// canonical pose) placed on them, beside the merged models of simulated sessions of the same models, by
-// six figures: accuracy (median, 90th percentile and share of points beyond 5 mm from the true
-// surface), coverage (share of the true surface within 5 and 10 mm of the cloud) and the tip gap (the
-// true tooltip to the nearest cloud point: median, and the share of clouds within 10 mm). Per tool and
-// in all: the median over tools (robot) and over sessions (simulated); a failed session counts as a
-// cloud without the tip.
+// check-realism [FOLDER] [--families F...] [--seeds N] [--first-seed S] [--stereo elas|sgbm|ideal]
+//               [--grasp recorded|any]:
+// six figures of clouds against the truth of the tool they show: accuracy (median, 90th percentile and
+// share of points beyond 5 mm from the true surface), coverage (share of the true surface within 5 and
+// 10 mm of the cloud) and the tip gap (the true tooltip to the nearest cloud point: median, and the share
+// of clouds within 10 mm).
+// - A model in FOLDER with the robot's reconstruction of it (X.pcd, canonical pose, and X_rec.ply, hand
+//   frame): a row per tool, the reconstruction against the model placed on it beside the merged models
+//   of simulated sessions of the same model.
+// - Models without a reconstruction (X.pcd or X.ply alone, e.g. CAD models) and the generated families
+//   (--families): the simulated sessions alone (the simulator knows where the truth lies), a row per
+//   kind of tool (the file name's, as evaluate-models names it; its tooltip rule too) and per family.
+// "all": the median over tools (robot) and over sessions (simulated), the simulated tip share with its
+// 95 % (Wilson) interval; a failed session counts as a cloud without the tip.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/progress.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/cloud_io.hpp"
+#include "toolinc/synth/model_kinds.hpp"
 #include "toolinc/synth/realism.hpp"
 
 namespace {
@@ -25,6 +35,7 @@ namespace {
 using toolinc::CloudFigures;
 
 constexpr double kTipReach = 0.010;  // m: a cloud "has the tip" within this
+constexpr const char* kColumns = " median    p90   >5mm  cov5 cov10   tip <=10mm";
 
 // The six figures of a set of clouds; `failed` clouds count only against the tip share.
 struct Summary {
@@ -42,38 +53,73 @@ double median_of(const Summary& s, double (*figure)(const CloudFigures&)) {
   return values.empty() ? NAN : toolinc::median(values);
 }
 
-void print_figures(const Summary& s) {
-  const auto tips = std::count_if(s.clouds.begin(), s.clouds.end(),
-                                  [](const CloudFigures& c) { return c.tip_gap_m <= kTipReach; });
+// `interval`: the tip share's 95 % (Wilson) interval after it.
+void print_figures(const Summary& s, bool interval) {
+  const int tips = static_cast<int>(std::count_if(s.clouds.begin(), s.clouds.end(),
+                                                  [](const CloudFigures& c) { return c.tip_gap_m <= kTipReach; }));
   const int n = static_cast<int>(s.clouds.size()) + s.failed;
-  std::printf(" %6.1f %6.1f %5.2f %5.2f %5.2f %6.1f %3ld/%-3d", 1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.median_m; }),
+  std::printf(" %6.1f %6.1f %5.2f %5.2f %5.2f %6.1f %3d/%-3d", 1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.median_m; }),
               1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.p90_m; }),
               median_of(s, [](const CloudFigures& c) { return c.accuracy.beyond; }),
               median_of(s, [](const CloudFigures& c) { return c.coverage_5mm; }),
               median_of(s, [](const CloudFigures& c) { return c.coverage_10mm; }),
-              1000 * median_of(s, [](const CloudFigures& c) { return c.tip_gap_m; }), static_cast<long>(tips), n);
+              1000 * median_of(s, [](const CloudFigures& c) { return c.tip_gap_m; }), tips, n);
+  if (interval) {
+    const auto [lo, hi] = toolinc::wilson_interval(tips, n);
+    std::printf(" (%.0f-%.0f%%)", 100 * lo, 100 * hi);
+  }
 }
 
-void print_row(const std::string& name, const Summary& robot, const Summary& simulated) {
-  std::printf("%-8s", name.c_str());
-  print_figures(robot);
-  std::printf("  |");
-  print_figures(simulated);
+// `robot`: the robot's columns before the simulated ones, when there are any.
+void print_row(const std::string& name, const Summary* robot, const Summary& simulated, bool interval = false) {
+  std::printf("%-13s", name.c_str());
+  if (robot != nullptr) {
+    print_figures(*robot, false);
+    std::printf("  |");
+  }
+  print_figures(simulated, interval);
   std::printf("\n");
+}
+
+// Rows of simulated sessions alone, in the order they first appear, and "all".
+using Groups = std::vector<std::pair<std::string, Summary>>;
+
+void add_to(Groups& groups, const std::string& name, const Summary& s) {
+  auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == name; });
+  if (it == groups.end()) it = groups.insert(groups.end(), {name, Summary{}});
+  it->second.add(s);
+}
+
+void print_groups(const std::string& first_column, const std::string& title, const Groups& groups) {
+  std::printf("%-13s %s\n%-13s%s\n", "", title.c_str(), first_column.c_str(), kColumns);
+  Summary all;
+  for (const auto& [name, s] : groups) {
+    print_row(name, nullptr, s);
+    all.add(s);
+  }
+  print_row("all", nullptr, all, true);
+}
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   toolinc::Command command("check-realism",
-                           "The robot's reconstructions of real tools beside simulated sessions of the same tools");
-  std::string real_dir, stereo = "elas", grasp = "recorded";
+                           "The robot's reconstructions of real tools beside simulated sessions of the same tools, "
+                           "and simulated sessions of models and generated families alone");
+  std::string folder, stereo = "elas", grasp = "recorded";
+  std::vector<std::string> family_names;
   int seeds = 4;
   std::uint32_t first_seed = 1;
   auto& cli = command.cli();
-  cli.add_option("real_tools", real_dir, "Folder of X.pcd (model, canonical) and X_rec.ply (the robot's reconstruction)")
-      ->required()
+  cli.add_option("folder", folder,
+                 "Folder of models (X.pcd, canonical), each with the robot's reconstruction (X_rec.ply) or without")
       ->check(CLI::ExistingDirectory);
+  cli.add_option("--families", family_names, "Generated tool families, simulated alone (all: the regression set)");
   cli.add_option("--seeds", seeds, "Simulated sessions per tool")->capture_default_str()->check(CLI::PositiveNumber);
   cli.add_option("--first-seed", first_seed, "Seed of the first session")->capture_default_str();
   cli.add_option("--stereo", stereo, "The simulated sessions' stereo model, as simulate-session --stereo")
@@ -83,29 +129,57 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"recorded", "any"}))
       ->capture_default_str();
   return command.run(argc, argv, [&] {
-    std::vector<std::filesystem::path> reconstructions;
-    for (const auto& entry : std::filesystem::directory_iterator(real_dir)) {
-      const std::string file = entry.path().filename().string();
-      if (file.size() > 8 && file.substr(file.size() - 8) == "_rec.ply") reconstructions.push_back(entry.path());
+    if (folder.empty() && family_names.empty())
+      throw std::invalid_argument("give a folder of models, --families, or both");
+    std::vector<toolinc::ToolFamily> families;
+    for (const auto& name : family_names) {
+      if (name == "all") {
+        for (const auto f : toolinc::all_families()) families.push_back(f);
+      } else {
+        families.push_back(toolinc::family_from_string(name));
+      }
     }
-    std::sort(reconstructions.begin(), reconstructions.end());
-    if (reconstructions.empty()) throw toolinc::InputError(real_dir, "no X_rec.ply reconstruction in the folder");
-    std::printf("%-8s %-45s  | %s\n", "", "robot's reconstructions", "simulated sessions");
-    const char* columns = " median    p90   >5mm  cov5 cov10   tip <=10mm";
-    std::printf("%-8s%s  |%s\n", "tool", columns, columns);
-    Summary robot_all, simulated_all;
+    const toolinc::StereoModel stereo_model = toolinc::stereo_model_from_string(stereo);
+    const toolinc::ExplorationGrasps grasps = toolinc::exploration_grasps_from_string(grasp);
+
+    std::vector<std::filesystem::path> reconstructions, models;
+    if (!folder.empty()) {
+      for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+        const std::string file = lower(entry.path().filename().string()), ext = lower(entry.path().extension().string());
+        if (!entry.is_regular_file()) continue;
+        if (file.size() > 8 && file.substr(file.size() - 8) == "_rec.ply") {
+          reconstructions.push_back(entry.path());
+        } else if (ext == ".pcd" || ext == ".ply") {
+          models.push_back(entry.path());
+        }
+      }
+      std::sort(reconstructions.begin(), reconstructions.end());
+      std::sort(models.begin(), models.end());
+      if (reconstructions.empty() && models.empty())
+        throw toolinc::InputError(folder, "no model (X.pcd) or reconstruction (X_rec.ply) in the folder");
+    }
+    const auto model_of = [](const std::filesystem::path& rec_path) {
+      const std::string rec_name = rec_path.filename().string();
+      return rec_path.parent_path() / (rec_name.substr(0, rec_name.size() - 8) + ".pcd");
+    };
     for (const auto& rec_path : reconstructions) {
-      const std::string rec_name = rec_path.filename().string(), name = rec_name.substr(0, rec_name.size() - 8);
-      const auto model_path = rec_path.parent_path() / (name + ".pcd");
-      if (!std::filesystem::exists(model_path))
-        throw toolinc::InputError(model_path.string(), "no model for the reconstruction " + rec_name);
-      const toolinc::PointCloud model = toolinc::load_cloud(model_path.string());
-      Summary robot, simulated;
-      robot.clouds.push_back(toolinc::reconstruction_figures(model.points, toolinc::load_cloud(rec_path.string()).points,
-                                                              toolinc::is_shovel_name(name)));
-      for (const auto& s : toolinc::simulated_figures(model, name + ".pcd", toolinc::stereo_model_from_string(stereo),
-                                                      toolinc::exploration_grasps_from_string(grasp), first_seed,
-                                                      seeds)) {
+      if (!std::filesystem::exists(model_of(rec_path)))
+        throw toolinc::InputError(model_of(rec_path).string(), "no model for the reconstruction " +
+                                                                   rec_path.filename().string());
+      const auto model_file = model_of(rec_path).filename();
+      models.erase(std::remove_if(models.begin(), models.end(),
+                                  [&](const std::filesystem::path& m) { return m.filename() == model_file; }),
+                   models.end());
+    }
+
+    const toolinc::Progress progress("simulating sessions");
+    const std::size_t total = (reconstructions.size() + models.size() + families.size()) * seeds;
+    std::size_t done = 0;
+    // The one path every table's simulated columns take: the sessions of one tool, failures counted.
+    const auto simulate = [&](toolinc::SessionSimulatorConfig session, const std::string& name) {
+      session.stereo = stereo_model;
+      Summary simulated;
+      for (const auto& s : toolinc::simulated_figures(session, grasps, seeds)) {
         if (s.merged) {
           simulated.clouds.push_back(s.figures);
         } else {
@@ -113,10 +187,50 @@ int main(int argc, char** argv) {
           spdlog::warn("{}: a simulated session failed: {}", name, s.errors.tool.failure);
         }
       }
-      print_row(name, robot, simulated);
-      robot_all.add(robot);
-      simulated_all.add(simulated);
+      progress(done += seeds, total);
+      return simulated;
+    };
+    const auto model_session = [&](const toolinc::PointCloud& model, const std::filesystem::path& path) {
+      return toolinc::model_session(model, path.filename().string(), toolinc::measure_symmetry(model.points),
+                                    first_seed, grasps);
+    };
+    const std::string simulated_title = "simulated sessions (--stereo " + stereo + ")";
+
+    if (!reconstructions.empty()) {
+      std::printf("%-13s %-45s  | %s\n%-13s%s  |%s\n", "", "robot's reconstructions", simulated_title.c_str(), "tool",
+                  kColumns, kColumns);
+      Summary robot_all, simulated_all;
+      for (const auto& rec_path : reconstructions) {
+        const auto model_path = model_of(rec_path);
+        const std::string name = model_path.stem().string();
+        const toolinc::PointCloud model = toolinc::load_cloud(model_path.string());
+        Summary robot;
+        robot.clouds.push_back(toolinc::reconstruction_figures(
+            model.points, toolinc::load_cloud(rec_path.string()).points,
+            toolinc::truth_tip_of_kind(toolinc::model_kind(model_path.string()))));
+        const Summary simulated = simulate(model_session(model, model_path), name);
+        print_row(name, &robot, simulated);
+        robot_all.add(robot);
+        simulated_all.add(simulated);
+      }
+      print_row("all", &robot_all, simulated_all, true);
     }
-    print_row("all", robot_all, simulated_all);
+    if (!models.empty()) {
+      Groups by_kind;
+      for (const auto& path : models) {
+        const toolinc::PointCloud model = toolinc::load_cloud(path.string());
+        add_to(by_kind, toolinc::model_kind(path.string()), simulate(model_session(model, path), path.stem().string()));
+      }
+      if (!reconstructions.empty()) std::printf("\n");
+      print_groups("kind", "models without a reconstruction: " + simulated_title, by_kind);
+    }
+    if (!families.empty()) {
+      Groups by_family;
+      for (const auto family : families)
+        add_to(by_family, toolinc::to_string(family),
+               simulate(toolinc::family_session(family, first_seed, grasps), toolinc::to_string(family)));
+      if (!reconstructions.empty() || !models.empty()) std::printf("\n");
+      print_groups("family", "generated families: " + simulated_title, by_family);
+    }
   });
 }

@@ -59,13 +59,16 @@ HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry
                                   tooltip_config);
 }
 
+Points true_surface(const SessionSimulatorConfig& session) {
+  if (!session.model.points.empty()) return session.model.points;
+  ToolShape dense = session.shape;
+  dense.spacing = 0.001;
+  return generate_tool(dense, 1).points;
+}
+
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
   const SimulatedSession session = simulate_session(config);
-  // The truth at 1 mm spacing, finer than the model's 2 mm grid, so the distances measure the model.
-  ToolShape dense = config.shape;
-  dense.spacing = 0.001;
-  const bool procedural = config.model.points.empty();
-  const Points canonical = procedural ? generate_tool(dense, 1).points : config.model.points;
+  const Points canonical = true_surface(config);
   const ToolGroundTruth truth = tool_ground_truth(canonical, tool_symmetry(config), tool_truth_tip(config),
                                                   config.hand_from_canonical);
   SessionErrors errors;

@@ -1,7 +1,6 @@
 #include "toolinc/synth/realism.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <limits>
 
 #include "toolinc/ann/kdtree.hpp"
@@ -14,7 +13,6 @@ namespace toolinc {
 namespace {
 
 constexpr double kNear = 0.005, kFar = 0.010;  // m: the coverage radii
-constexpr double kEffectorWeight = 0.8;
 
 double share_within(const std::vector<double>& distances, double radius) {
   const auto n = std::count_if(distances.begin(), distances.end(), [&](double d) { return d <= radius; });
@@ -34,27 +32,6 @@ CloudFigures cloud_figures(const Points& cloud, const Points& true_surface, cons
   return figures;
 }
 
-Vec3 realism_tooltip(const Points& canonical, bool shovel) {
-  Vec3 centroid = Vec3::Zero();
-  for (const auto& p : canonical) centroid += p;
-  centroid /= static_cast<double>(std::max<std::size_t>(canonical.size(), 1));
-  double best = -std::numeric_limits<double>::infinity();
-  Vec3 tip = Vec3::Zero();
-  for (const auto& p : canonical) {
-    if (p.y() >= centroid.y()) continue;
-    const double score =
-        shovel ? p.norm() : kEffectorWeight * (p.x() - centroid.x()) + (1.0 - kEffectorWeight) * p.norm();
-    if (score > best) best = score, tip = Vec3(p.x(), p.y(), 0.0);
-  }
-  return tip;
-}
-
-bool is_shovel_name(const std::string& name) {
-  std::string prefix = name.substr(0, 3);
-  std::transform(prefix.begin(), prefix.end(), prefix.begin(), [](unsigned char c) { return std::tolower(c); });
-  return prefix == "sho";
-}
-
 Eigen::Matrix4d place_model(const Points& model, const Points& reconstruction) {
   const PoseModel pose_model(model);
   const PoseResult pose = align_pose(pose_model, reconstruction);
@@ -62,35 +39,26 @@ Eigen::Matrix4d place_model(const Points& model, const Points& reconstruction) {
   return align_point_to_plane(voxel_downsample(model, 0.003), target, pose.best.hand_from_model).target_from_source;
 }
 
-ToolGroundTruth realism_truth(const Points& canonical, ToolSymmetry symmetry, bool shovel,
-                              const Eigen::Matrix4d& hand_from_canonical) {
-  ToolGroundTruth truth = tool_ground_truth(canonical, symmetry, shovel ? TruthTip::far_end : TruthTip::weighted,
-                                            hand_from_canonical);
-  truth.tooltips.front() = apply(hand_from_canonical, realism_tooltip(canonical, shovel));
-  return truth;
-}
-
-CloudFigures reconstruction_figures(const Points& model, const Points& reconstruction, bool shovel) {
+CloudFigures reconstruction_figures(const Points& model, const Points& reconstruction, TruthTip tip) {
   const Eigen::Matrix4d hand_from_model = place_model(model, reconstruction);
   return cloud_figures(reconstruction, transform_points(model, hand_from_model),
-                       realism_truth(model, measure_symmetry(model), shovel, hand_from_model));
+                       tool_ground_truth(model, measure_symmetry(model), tip, hand_from_model));
 }
 
-std::vector<SimulatedFigures> simulated_figures(const PointCloud& model, const std::string& name, StereoModel stereo,
-                                                ExplorationGrasps grasps, std::uint32_t first_seed, int seeds) {
-  SessionSimulatorConfig config = model_session(model, name, measure_symmetry(model.points), first_seed);
-  config.stereo = stereo;
+std::vector<SimulatedFigures> simulated_figures(SessionSimulatorConfig session, ExplorationGrasps grasps, int seeds) {
+  const Points canonical = true_surface(session);
+  const std::uint32_t first_seed = session.seed;
   std::vector<SimulatedFigures> sessions;
   for (int s = 0; s < seeds; ++s) {
-    config.seed = first_seed + static_cast<std::uint32_t>(s);
-    config.hand_from_canonical = exploration_grasp(config.seed, grasps);
+    session.seed = first_seed + static_cast<std::uint32_t>(s);
+    session.hand_from_canonical = exploration_grasp(session.seed, grasps);
     SimulatedFigures simulated;
-    simulated.errors = evaluate_simulated_session(config);
+    simulated.errors = evaluate_simulated_session(session);
     simulated.merged = !simulated.errors.merged.empty();
     if (simulated.merged)
-      simulated.figures = cloud_figures(
-          simulated.errors.merged, transform_points(model.points, config.hand_from_canonical),
-          realism_truth(model.points, config.model_symmetry, is_shovel_name(name), config.hand_from_canonical));
+      simulated.figures = cloud_figures(simulated.errors.merged, transform_points(canonical, session.hand_from_canonical),
+                                        tool_ground_truth(canonical, tool_symmetry(session), tool_truth_tip(session),
+                                                          session.hand_from_canonical));
     sessions.push_back(std::move(simulated));
   }
   return sessions;

@@ -51,6 +51,10 @@ struct SessionErrors {
   HeldToolErrors tool;            // of the frame and tooltip; failure also says when the merge failed
 };
 
+// The configured tool's true surface in the canonical pose: a model's own points; a family's shape
+// sampled at 1 mm, finer than the merged model's 2 mm grid, so that distances to it measure the model.
+Points true_surface(const SessionSimulatorConfig& session);
+
 // Simulates the session, then crop-cloud (all views), merge-views, estimate-frame and find-tooltip, as
 // scripts/pipeline.mk runs them, and compares with the tool's true surface and ground truth.
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& session, const PipelineConfig& pipeline = {});
