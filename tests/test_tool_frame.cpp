@@ -252,6 +252,22 @@ TEST(ToolFrameAccuracy, IsolatedOutlierIsNeverTheTooltip) {
   EXPECT_GE(with_outlier.rejected_sparse, 1);
 }
 
+TEST(ToolFrameAccuracy, HandleThickerThanTheHandHoldsIsDoubtful) {
+  // The same hoe with its handle 1 cm and 3 cm in radius: the thin one raises no handle doubt, the
+  // thick one is doubtful because of it.
+  for (const double radius : {0.01, 0.03}) {
+    ToolShape shape = default_shape(ToolFamily::hoe);
+    shape.handle_radius = radius;
+    Rng rng(5);
+    const Points observed = observe_in_hand(generate_tool(shape, 5).points, random_grasp({}, rng), 0.06, 0.0015, rng);
+    const ToolFrame frame = estimate_tool_frame(observed);
+    const bool doubted = std::any_of(frame.confidence.doubts.begin(), frame.confidence.doubts.end(),
+                                     [](const std::string& d) { return d.find("grasp-max-radius") != std::string::npos; });
+    EXPECT_EQ(doubted, radius > ToolFrameConfig{}.grasp_max_radius) << radius << " m, fitted " << frame.handle_radius;
+    if (doubted) EXPECT_FALSE(frame.confidence.confident);
+  }
+}
+
 TEST(ToolFrameDegenerate, ReasonsAreGiven) {
   const auto expect_method_error = [](const Points& points, const std::string& word) {
     try {

@@ -71,6 +71,9 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
   cli.add_option("--grasp-reach", c.grasp_reach,
                  "The handle's axis passes this close to the hand; a farther one makes the frame doubtful (m)")
       ->capture_default_str()->group(group)->check(positive);
+  cli.add_option("--grasp-max-radius", c.grasp_max_radius,
+                 "The hand closes on handles up to this radius; a thicker fitted handle makes the frame doubtful (m)")
+      ->capture_default_str()->group(group)->check(positive);
 }
 
 void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {

@@ -563,6 +563,10 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.confidence.check(1.0 - frame.hand_to_handle / config.grasp_reach,
                          fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
                                      "it is not what the hand holds", 1000 * frame.hand_to_handle, 1000 * config.grasp_reach));
+  frame.confidence.check(1.0 - frame.handle_radius / config.grasp_max_radius,
+                         fmt::format("the handle's fitted radius is {:.0f} mm, beyond grasp-max-radius ({:.0f} mm): "
+                                     "thicker than the hand holds", 1000 * frame.handle_radius,
+                                     1000 * config.grasp_max_radius));
   const double reach_difference = frame.effector_reach_positive - frame.effector_reach_negative;
   if (!frame.stick && !curled && !frame.salient_effector && reach_difference >= config.salience_min)
     frame.confidence.check(0.0, fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "

@@ -68,6 +68,9 @@ struct ToolFrameConfig {
   double grasp_reach = 0.10;        // m: the hand holds the handle, so the handle's axis passes within
                                     //    this of the hand's origin (the original's grasp check: the tool
                                     //    at most 10 cm from the hand); a farther axis is doubtful
+  double grasp_max_radius = 0.02;   // m: the iCub's hand closes on handles up to about 4 cm across; a
+                                    //    thicker fitted handle is not what it holds (a head, the hand or
+                                    //    smear in the fit): doubtful
 };
 
 // What the head is, decided once from its points about the handle: it decides the tooltip's rule.
