@@ -143,21 +143,11 @@ int main(int argc, char** argv) {
     const toolinc::ExplorationGrasps grasps = toolinc::exploration_grasps_from_string(grasp);
 
     std::vector<std::filesystem::path> reconstructions, models;
-    if (!folder.empty()) {
-      for (const auto& entry : std::filesystem::directory_iterator(folder)) {
-        const std::string file = lower(entry.path().filename().string()), ext = lower(entry.path().extension().string());
-        if (!entry.is_regular_file()) continue;
-        if (file.size() > 8 && file.substr(file.size() - 8) == "_rec.ply") {
-          reconstructions.push_back(entry.path());
-        } else if (ext == ".pcd" || ext == ".ply") {
-          models.push_back(entry.path());
-        }
+    if (!folder.empty())
+      for (const auto& path : toolinc::expand_model_paths({folder})) {
+        const std::string file = lower(std::filesystem::path(path).filename().string());
+        (file.size() > 8 && file.substr(file.size() - 8) == "_rec.ply" ? reconstructions : models).emplace_back(path);
       }
-      std::sort(reconstructions.begin(), reconstructions.end());
-      std::sort(models.begin(), models.end());
-      if (reconstructions.empty() && models.empty())
-        throw toolinc::InputError(folder, "no model (X.pcd) or reconstruction (X_rec.ply) in the folder");
-    }
     const auto model_of = [](const std::filesystem::path& rec_path) {
       const std::string rec_name = rec_path.filename().string();
       return rec_path.parent_path() / (rec_name.substr(0, rec_name.size() - 8) + ".pcd");
