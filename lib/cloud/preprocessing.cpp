@@ -81,19 +81,21 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
   return kept;
 }
 
+Vec3 normal_at(const KdTree& tree, const Vec3& point, int k) {
+  const auto neighbours = tree.knn(point, k);
+  if (neighbours.size() < 3) return Vec3::UnitZ();
+  const auto spread = scatter_of<3>(neighbours.size(), [&](std::size_t j) { return tree.points()[neighbours[j].index]; });
+  // The closed-form 3x3 solver: several times faster than the iterative one, and accurate enough
+  // for the smallest eigenvector of a neighbourhood's spread.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(spread.scatter);
+  return solver.eigenvectors().col(0);
+}
+
 Points estimate_normals(const Points& points, int k) {
   const KdTree tree(points);
-  Points normals(points.size(), Vec3::UnitZ());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto neighbours = tree.knn(points[i], k);
-    if (neighbours.size() < 3) continue;
-    const auto spread = scatter_of<3>(neighbours.size(), [&](std::size_t j) { return points[neighbours[j].index]; });
-    // The closed-form 3x3 solver: several times faster than the iterative one, and accurate enough
-    // for the smallest eigenvector of a neighbourhood's spread.
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-    solver.computeDirect(spread.scatter);
-    normals[i] = solver.eigenvectors().col(0);
-  }
+  Points normals(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) normals[i] = normal_at(tree, points[i], k);
   return normals;
 }
 

@@ -41,39 +41,52 @@ Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale
   const int n = 4 + sections;  // [tilt_u, tilt_v, shift_u, shift_v, radius of each section]
   Cylinder best = initial;
   Eigen::VectorXd radii = Eigen::VectorXd::Constant(sections, initial.radius);
+  const auto huber = [&](double e) {
+    return std::abs(e) <= huber_scale ? 0.5 * e * e : huber_scale * (std::abs(e) - 0.5 * huber_scale);
+  };
   const auto cost = [&](const Cylinder& c, const Eigen::VectorXd& r) {
     double sum = 0.0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const double e = radial_distance(c, points[i]) - r[section[i]];
-      sum += std::abs(e) <= huber_scale ? 0.5 * e * e : huber_scale * (std::abs(e) - 0.5 * huber_scale);
-    }
+    for (std::size_t i = 0; i < points.size(); ++i) sum += huber(radial_distance(c, points[i]) - r[section[i]]);
     return sum;
   };
   double lambda = 1e-3;
   for (int iteration = 0; iteration < iterations; ++iteration) {
     // Re-centre the parametrisation on the current estimate so the linearisation stays small.
     const Vec3 u = best.axis.unitOrthogonal(), v = best.axis.cross(u);
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
-    Eigen::VectorXd J(n);
+    // The Jacobian row is [a, -1 at the point's own section]: its outer products are accumulated by
+    // block (the 4x4 of the axis, the axis' coupling with each section, each section's diagonal), the
+    // same sums as the full n x n product's, without its cost per point.
+    Eigen::Matrix4d H_axis = Eigen::Matrix4d::Zero();
+    Eigen::Matrix<double, 4, Eigen::Dynamic> H_coupling = Eigen::Matrix<double, 4, Eigen::Dynamic>::Zero(4, sections);
+    Eigen::VectorXd H_section = Eigen::VectorXd::Zero(sections);
+    Eigen::Vector4d g_axis = Eigen::Vector4d::Zero();
+    Eigen::VectorXd g_section = Eigen::VectorXd::Zero(sections);
+    double current = 0.0;  // the cost at the current estimate, from the same residuals
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Vec3 d = points[i] - best.point;
       const Vec3 radial = d - d.dot(best.axis) * best.axis;
       const double rho = radial.norm();
+      const int s = section[i];
+      const double r = rho - radii[s];
+      current += huber(r);
       if (rho < 1e-12) continue;
       const Vec3 unit = radial / rho;
       const double along = d.dot(best.axis);
       // d(rho)/d(tilt) = -along * n.u (tilting the axis towards u moves the foot of p along u),
       // d(rho)/d(shift) = -n.u, d(residual)/d(own section's radius) = -1.
-      J.setZero();
-      J[0] = -along * unit.dot(u), J[1] = -along * unit.dot(v), J[2] = -unit.dot(u), J[3] = -unit.dot(v);
-      J[4 + section[i]] = -1.0;
-      const double r = rho - radii[section[i]];
+      const Eigen::Vector4d a(-along * unit.dot(u), -along * unit.dot(v), -unit.dot(u), -unit.dot(v));
       const double w = huber_weight(r, huber_scale);
-      H.noalias() += w * J * J.transpose();
-      g.noalias() += w * J * r;
+      const Eigen::Vector4d wa = w * a;
+      H_axis.noalias() += wa * a.transpose();
+      H_coupling.col(s) -= wa;
+      H_section[s] += w;
+      g_axis += wa * r;
+      g_section[s] -= w * r;
     }
-    const double current = cost(best, radii);
+    Eigen::MatrixXd H(n, n);
+    H << H_axis, H_coupling, H_coupling.transpose(), Eigen::MatrixXd(H_section.asDiagonal());
+    Eigen::VectorXd g(n);
+    g << g_axis, g_section;
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
       Eigen::MatrixXd damped = H;

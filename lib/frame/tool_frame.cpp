@@ -418,7 +418,6 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const Vec3 v = y_axis.cross(u);
   const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
   const FreeSpace free_space(cloud, viewpoints);
-  const Points normals = estimate_normals(cloud, config.symmetry_normal_neighbors);
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
   // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
   const Vec3& centre = handle.point;
@@ -436,7 +435,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.stick = frame.head_extent < config.stick_width;
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                               config.symmetry_tolerance, config.symmetry_match_weight,
-                              viewpoints.empty() ? nullptr : &free_space, &normals,
+                              viewpoints.empty() ? nullptr : &free_space, config.symmetry_normal_neighbors,
                               static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr);
   const auto score_at = [&](double angle) { return scorer.score(normal_at(angle), centre); };
   const double step = config.symmetry_step_deg * kDeg;

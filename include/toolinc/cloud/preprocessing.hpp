@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/point_cloud.hpp"
 
 namespace toolinc {
@@ -28,6 +29,8 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
 
 // Unit normals from the covariance of each point's k nearest neighbours (sign arbitrary).
 Points estimate_normals(const Points& points, int k);
+// The same for one point of the tree's points (+Z when it has fewer than 3 neighbours).
+Vec3 normal_at(const KdTree& tree, const Vec3& point, int k);
 
 Points transform_points(const Points& points, const Eigen::Matrix4d& target_from_source);
 
