@@ -8,30 +8,32 @@ namespace toolinc {
 KdTree::KdTree(const Points& points, int leaf_size) : points_(points), order_(points.size()) {
   std::iota(order_.begin(), order_.end(), 0u);
   nodes_.reserve(2 * points.size() / std::max(1, leaf_size) + 1);
-  if (!points.empty()) build(0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size));
+  if (!points.empty()) {
+    Vec3 lo = points[0], hi = lo;
+    for (const auto& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    build(0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size), lo, hi);
+  }
   ordered_.reserve(points.size());
   for (const auto index : order_) ordered_.push_back(points[index]);
 }
 
-std::int32_t KdTree::build(std::uint32_t begin, std::uint32_t end, int leaf_size) {
+// lo, hi: a box holding the node's points (the root's bounding box, cut by the splits above): its widest
+// side is split at the median, which keeps the tree balanced and robust to duplicate points.
+std::int32_t KdTree::build(std::uint32_t begin, std::uint32_t end, int leaf_size, Vec3 lo, Vec3 hi) {
   const auto id = static_cast<std::int32_t>(nodes_.size());
   nodes_.push_back({begin, end, -1, -1, -1, 0.0});
   if (end - begin <= static_cast<std::uint32_t>(leaf_size)) return id;
 
-  // Split the widest dimension at the median: balanced, and robust to duplicate points.
-  Vec3 lo = points_[order_[begin]], hi = lo;
-  for (std::uint32_t i = begin + 1; i < end; ++i) {
-    lo = lo.cwiseMin(points_[order_[i]]);
-    hi = hi.cwiseMax(points_[order_[i]]);
-  }
   int dim = 0;
   (hi - lo).maxCoeff(&dim);
   const std::uint32_t mid = begin + (end - begin) / 2;
   std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
                    [&](std::uint32_t a, std::uint32_t b) { return points_[a][dim] < points_[b][dim]; });
   const double split = points_[order_[mid]][dim];
-  const std::int32_t left = build(begin, mid, leaf_size);
-  const std::int32_t right = build(mid, end, leaf_size);
+  Vec3 left_hi = hi, right_lo = lo;
+  left_hi[dim] = right_lo[dim] = split;
+  const std::int32_t left = build(begin, mid, leaf_size, lo, left_hi);
+  const std::int32_t right = build(mid, end, leaf_size, right_lo, hi);
   nodes_[id].left = left;
   nodes_[id].right = right;
   nodes_[id].split_dim = dim;
@@ -83,26 +85,21 @@ KdTree::Neighbor KdTree::nearest(const Vec3& query, double max_distance) const {
 }
 
 std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
-  std::vector<Neighbor> heap;
-  if (k <= 0) return heap;
-  heap.reserve(k + 1);
+  std::vector<Neighbor> nearest;  // sorted: for the few neighbours asked for, cheaper than a heap
+  if (k <= 0) return nearest;
+  nearest.reserve(k + 1);
   const auto closer = [](const Neighbor& a, const Neighbor& b) {
     return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
   };
   double bound2 = std::numeric_limits<double>::infinity();
   search(query, bound2, [&](std::uint32_t index, double d2) {
     const Neighbor candidate{index, d2};
-    if (static_cast<int>(heap.size()) == k && !closer(candidate, heap.front())) return;
-    heap.push_back(candidate);
-    std::push_heap(heap.begin(), heap.end(), closer);
-    if (static_cast<int>(heap.size()) > k) {
-      std::pop_heap(heap.begin(), heap.end(), closer);
-      heap.pop_back();
-    }
-    if (static_cast<int>(heap.size()) == k) bound2 = heap.front().distance2;
+    if (static_cast<int>(nearest.size()) == k && !closer(candidate, nearest.back())) return;
+    nearest.insert(std::upper_bound(nearest.begin(), nearest.end(), candidate, closer), candidate);
+    if (static_cast<int>(nearest.size()) > k) nearest.pop_back();
+    if (static_cast<int>(nearest.size()) == k) bound2 = nearest.back().distance2;
   });
-  std::sort_heap(heap.begin(), heap.end(), closer);
-  return heap;
+  return nearest;
 }
 
 std::size_t KdTree::count_within(const Vec3& query, double radius, std::size_t enough) const {

@@ -40,7 +40,7 @@ class KdTree {
     int split_dim;
     double split_value;
   };
-  std::int32_t build(std::uint32_t begin, std::uint32_t end, int leaf_size);
+  std::int32_t build(std::uint32_t begin, std::uint32_t end, int leaf_size, Vec3 lo, Vec3 hi);
   template <typename Visit>
   void search(const Vec3& query, double& bound2, Visit&& visit) const;
 
