@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
@@ -304,9 +305,9 @@ bool front_is_face(const Points& cloud, const Vec3& centre, const Vec3& y_axis, 
   return wide < 5 * std::max(narrow, 1);
 }
 
-// Golden-section search for the minimum of f on [lo, hi].
+// Golden-section search for the minimum of f on [lo, hi]: where it is, and f there.
 template <typename F>
-double golden_minimum(F&& f, double lo, double hi, int iterations) {
+std::pair<double, double> golden_minimum(F&& f, double lo, double hi, int iterations) {
   const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
   double a = hi - ratio * (hi - lo), b = lo + ratio * (hi - lo);
   double fa = f(a), fb = f(b);
@@ -319,7 +320,7 @@ double golden_minimum(F&& f, double lo, double hi, int iterations) {
       b = lo + ratio * (hi - lo), fb = f(b);
     }
   }
-  return fa <= fb ? a : b;
+  return fa <= fb ? std::pair{a, fa} : std::pair{b, fb};
 }
 
 }  // namespace
@@ -454,13 +455,13 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
   for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
     const double lowest = sweep[i].angle_deg * kDeg;
-    const double angle = golden_minimum(score_at, lowest - step, lowest + step, 8);
+    const auto [angle, score] = golden_minimum(score_at, lowest - step, lowest + step, 8);
     const Vec3 x_axis = y_axis.cross(normal_at(angle));
     const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, x_axis, config.salience_quantile);
     const bool forward = r.positive >= r.negative;
     const bool face = front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis),
                                     config.front_band);
-    frame.tied_planes.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
+    frame.tied_planes.push_back({angle / kDeg, normal_at(angle), score});
     const std::pair<bool, double> merit = blade ? std::pair{true, -std::abs(normal_at(angle).dot(*blade))}
                                                 : std::pair{face, std::max(r.positive, r.negative)};
     if (merit > best_merit) {
