@@ -294,3 +294,23 @@ TEST(ToolFrameDegenerate, HandSkipMustLeaveAHandle) {
   config.handle_hand_skip = config.handle_fraction;
   EXPECT_THROW(estimate_tool_frame(make_held_tool(ToolFamily::hook, 3).observed, config), std::invalid_argument);
 }
+
+// A hoe's head mirrors across one plane only; a flat top's square plate across two at right angles: the
+// other is its rival, and find-tooltip reports the rival's tip.
+TEST(ToolFrameAccuracy, RivalSymmetryPlanesAreTheOtherMirrorsOfTheHead) {
+  for (int g = 0; g < 4; ++g) {
+    const auto hoe = make_held_tool(ToolFamily::hoe, 60u + g);
+    EXPECT_TRUE(estimate_tool_frame(hoe.observed).rival_planes.empty()) << "hoe grasp " << g;
+    const auto plate = make_held_tool(ToolFamily::flat_top, 60u + g);
+    const ToolFrame frame = estimate_tool_frame(plate.observed);
+    ASSERT_FALSE(frame.rival_planes.empty()) << "flat top grasp " << g;
+    for (const auto& rival : frame.rival_planes) {
+      EXPECT_LT(std::abs(rival.normal.dot(frame.symmetry_axis())), std::cos(M_PI / 6));
+      EXPECT_LE(rival.score, frame.symmetry_score + ToolFrameConfig{}.symmetry_doubt_margin);
+    }
+    const Tooltip tip = find_tooltip(plate.observed, frame);
+    EXPECT_TRUE(std::any_of(tip.alternatives.begin(), tip.alternatives.end(), [](const TooltipAlternative& a) {
+      return a.source == "rival symmetry plane" || a.source == "tied symmetry plane";
+    })) << "flat top grasp " << g;
+  }
+}

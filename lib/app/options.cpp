@@ -39,6 +39,10 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
       ->capture_default_str()->group(group)->check(positive);
   cli.add_option("--symmetry-tie-margin", c.symmetry_tie_margin, "Planes scoring within this of the best are equally symmetric")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--symmetry-doubt-margin", c.symmetry_doubt_margin,
+                 "A plane 30 degrees or more from the chosen one scoring within this of it is a rival, whose tip "
+                 "find-tooltip reports")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--head-radius-factor", c.head_radius_factor,
                  "Effector-side points this many handle radii from the handle axis are the head (mirrored)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 100.0));

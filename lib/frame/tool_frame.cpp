@@ -494,6 +494,18 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   }
   const Vec3 z_normal = normal_at(best_angle);
   frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
+  // Rivals: the sweep's local minima 30 degrees or more from the chosen plane that mirror the head nearly
+  // as well. A stick has no head whose plane matters.
+  const std::size_t n_sweep = sweep.size();
+  for (std::size_t i = 0; i < n_sweep && !frame.stick; ++i) {
+    const double score = sweep[i].score;
+    if (score <= sweep[(i + 1) % n_sweep].score && score <= sweep[(i + n_sweep - 1) % n_sweep].score &&
+        score <= frame.symmetry_score + config.symmetry_doubt_margin &&
+        std::abs(sweep[i].normal.dot(z_normal)) < std::cos(30 * kDeg))
+      frame.rival_planes.push_back(sweep[i]);
+  }
+  std::sort(frame.rival_planes.begin(), frame.rival_planes.end(),
+            [](const SymmetryCandidate& a, const SymmetryCandidate& b) { return a.score < b.score; });
   frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
   frame.across_handle_score = scorer.score(y_axis, principal.centroid);
 

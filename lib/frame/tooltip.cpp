@@ -166,20 +166,24 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   if (other_tied < p.tied.size())
     tip.alternatives.push_back({on_symmetry_plane(points[p.tied[other_tied]], frame), frame.symmetry_axis(),
                                 frame.symmetry_score, "tied point"});
-  for (const auto& plane : frame.tied_planes) {
-    if (std::abs(plane.normal.dot(frame.symmetry_axis())) > std::cos(M_PI / 36)) continue;  // the chosen plane
-    const ToolFrame other = with_symmetry_plane(points, frame, plane.normal);
-    const Pick q = pick(points, tree, other, config);
-    if (q.chosen == KdTree::npos) continue;
-    tip.alternatives.push_back({on_symmetry_plane(points[q.chosen], other), other.symmetry_axis(), plane.score,
-                                "tied symmetry plane"});
-  }
+  // And the tip on every rival plane: one of another basin that mirrors the head nearly as well.
+  const auto add_plane_tips = [&](const std::vector<SymmetryCandidate>& planes, const char* source) {
+    for (const auto& plane : planes) {
+      if (std::abs(plane.normal.dot(frame.symmetry_axis())) > std::cos(M_PI / 36)) continue;  // the chosen plane
+      const ToolFrame other = with_symmetry_plane(points, frame, plane.normal);
+      const Pick q = pick(points, tree, other, config);
+      if (q.chosen == KdTree::npos) continue;
+      tip.alternatives.push_back({on_symmetry_plane(points[q.chosen], other), other.symmetry_axis(), plane.score, source});
+    }
+  };
+  add_plane_tips(frame.tied_planes, "tied symmetry plane");
+  add_plane_tips(frame.rival_planes, "rival symmetry plane");
   double farthest = tip.uncertainty_m;
   for (const auto& a : tip.alternatives) farthest = std::max(farthest, (a.position - tip.position).norm());
   tip.ambiguous = farthest > config.ambiguity_distance;
   tip.confidence = frame.confidence;
   tip.confidence.check(1.0 - farthest / config.ambiguity_distance,
-                       fmt::format("another tip {:.0f} mm away scores as well (a tied point or symmetry plane), beyond "
+                       fmt::format("another tip {:.0f} mm away scores as well (a tied point, a tied or rival symmetry plane), beyond "
                                    "ambiguity-distance ({:.0f} mm)", 1000 * farthest, 1000 * config.ambiguity_distance));
   return tip;
 }

@@ -54,7 +54,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
           {"across_handle_score", frame.across_handle_score},
           {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
           {"candidates", candidates},
-          {"tied_planes", planes_json(frame.tied_planes)}}},
+          {"tied_planes", planes_json(frame.tied_planes)},
+          {"rival_planes", planes_json(frame.rival_planes)}}},
         {"symmetry_plane_rule", frame.symmetry_plane_rule},
         {"handle_sign_rule", frame.handle_sign_rule},
         {"effector_sign_rule", frame.effector_sign_rule},
@@ -113,22 +114,25 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   }
   if (diagnostics.contains("symmetry_plane_rule") && diagnostics["symmetry_plane_rule"].is_string())
     frame.symmetry_plane_rule = diagnostics["symmetry_plane_rule"].get<std::string>();
-  const Json* tied = nullptr;
-  if (diagnostics.contains("symmetry") && diagnostics["symmetry"].is_object() &&
-      diagnostics["symmetry"].contains("tied_planes"))
-    tied = &diagnostics["symmetry"]["tied_planes"];
-  if (tied != nullptr) {
-    if (!tied->is_array()) throw InputError(path, "diagnostics.symmetry.tied_planes must be an array");
-    for (const auto& plane : *tied) {
+  const auto read_planes = [&](const char* key, std::vector<SymmetryCandidate>& planes) {
+    if (!diagnostics.contains("symmetry") || !diagnostics["symmetry"].is_object() ||
+        !diagnostics["symmetry"].contains(key))
+      return;
+    const Json& list = diagnostics["symmetry"][key];
+    const std::string where = std::string("diagnostics.symmetry.") + key;
+    if (!list.is_array()) throw InputError(path, where + " must be an array");
+    for (const auto& plane : list) {
       const Vec3 normal = vector3_field(plane, "normal", path);
       if (std::abs(normal.norm() - 1.0) > 1e-3 || std::abs(normal.dot(frame.handle_axis())) > 1e-3)
-        throw InputError(path, "diagnostics.symmetry.tied_planes: a normal is not a unit vector across the handle axis");
-      const auto number = [&](const char* key) {
-        return plane.contains(key) && plane[key].is_number() ? plane[key].get<double>() : 0.0;
+        throw InputError(path, where + ": a normal is not a unit vector across the handle axis");
+      const auto number = [&](const char* name) {
+        return plane.contains(name) && plane[name].is_number() ? plane[name].get<double>() : 0.0;
       };
-      frame.tied_planes.push_back({number("angle_deg"), normal, number("score")});
+      planes.push_back({number("angle_deg"), normal, number("score")});
     }
-  }
+  };
+  read_planes("tied_planes", frame.tied_planes);
+  read_planes("rival_planes", frame.rival_planes);
   return frame;
 }
 

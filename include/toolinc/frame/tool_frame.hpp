@@ -53,6 +53,9 @@ struct ToolFrameConfig {
                                     //    grow like the depth) from a corner (like its square); deeper than the
                                     //    noise lifts the foremost point (~3 sigma)
   double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
+  double symmetry_doubt_margin = 0.1; // a plane of another basin (30 degrees or more from the chosen one)
+                                    //    scoring within this of it is a rival: the mirror does not single
+                                    //    out the chosen plane, and find-tooltip reports the rival's tip
   double stick_width = 0.02;        // m: a tool whose effector side stays this close to the handle's
                                     //    axis has no head (a stick, however bent): its effector axis is
                                     //    arbitrary. Heads stand out 2.5 cm (a flat shovel) to 13 cm.
@@ -108,6 +111,8 @@ struct ToolFrame {
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
   std::vector<SymmetryCandidate> tied_planes;  // every basin of the sweep scoring within the tie margin of
                                                // the best, refined; the rules above chose one of them
+  std::vector<SymmetryCandidate> rival_planes; // planes of the sweep 30 degrees or more from the chosen one
+                                               // scoring within symmetry-doubt-margin of it, best first
   double symmetry_score = 1.0;           // the chosen plane's score
   double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
   std::string symmetry_plane_rule;
