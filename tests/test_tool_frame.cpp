@@ -13,6 +13,7 @@
 
 #include "synthetic_cases.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/random.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
@@ -313,4 +314,50 @@ TEST(ToolFrameAccuracy, RivalSymmetryPlanesAreTheOtherMirrorsOfTheHead) {
       return a.source == "rival symmetry plane" || a.source == "tied symmetry plane";
     })) << "flat top grasp " << g;
   }
+}
+
+namespace {
+
+// A flat plate x <= 0 sampled every millimetre, its edge at x = 0, and beyond it a fringe `fringe` deep
+// whose density falls linearly to nothing (a fattened silhouette); `outermost` is its outermost point.
+Points plate_with_fringe(double fringe, Vec3& outermost) {
+  Rng rng(5);
+  Points plate;
+  for (double y = -0.03; y <= 0.03; y += 0.001)
+    for (double x = -0.05; x <= fringe + 1e-9; x += 0.001)
+      if (x <= 1e-9 || rng.uniform() > x / fringe) plate.push_back(Vec3(x, y, 0.0));
+  outermost = plate.front();
+  for (const auto& p : plate)
+    if (p.x() > outermost.x()) outermost = p;
+  return plate;
+}
+
+}  // namespace
+
+// The tip is moved off a fringe towards the surface's edge, and not moved at a sharp edge or off a thin
+// part's side.
+TEST(TooltipEdge, FringeRetreatsTowardsTheEdgeSharpEdgesAndThinPartsStay) {
+  const TooltipConfig config;
+  Vec3 outermost;
+  const Points fringed = plate_with_fringe(0.008, outermost);
+  const double back = edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), config);
+  // The point ends within 4 mm of the true edge (half density lies inside the fringe's ramp), from
+  // about 8 mm out.
+  EXPECT_GT(outermost.x(), 0.006);
+  EXPECT_LT(std::abs(outermost.x() - back), 0.004) << "outermost at " << outermost.x() << ", back " << back;
+
+  const Points sharp = plate_with_fringe(0.0, outermost);
+  EXPECT_LE(edge_retreat(KdTree(sharp), outermost, Vec3::UnitX(), config), 0.001);
+
+  // A thin rod (radius 1.5 mm) seen across: from its front side, 1 cm back lies nothing denser.
+  Points rod;
+  for (double y = -0.05; y <= 0.05; y += 0.0005)
+    for (int k = 0; k < 8; ++k)
+      rod.push_back(Vec3(0.0015 * std::cos(k * M_PI / 4), y, 0.0015 * std::sin(k * M_PI / 4)));
+  EXPECT_LE(edge_retreat(KdTree(rod), Vec3(0.0015, 0, 0), Vec3::UnitX(), config), 0.001);
+
+  TooltipConfig off = config;
+  off.fringe_depth = 0.0;
+  plate_with_fringe(0.008, outermost);
+  EXPECT_EQ(edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), off), 0.0);
 }

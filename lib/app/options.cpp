@@ -101,6 +101,12 @@ void add_tooltip_options(CLI::App& cli, TooltipConfig& c, std::string& rule) {
       ->capture_default_str()->group(group)->check(CLI::PositiveNumber);
   cli.add_option("--min-neighbors", c.min_neighbors, "A tooltip needs more than this many neighbours")
       ->capture_default_str()->group(group)->check(CLI::NonNegativeNumber);
+  cli.add_option("--tip-edge-radius", c.tip_edge_radius,
+                 "The surface's density at the tip is counted within this, to find its edge (m)")
+      ->capture_default_str()->group(group)->check(CLI::Range(1e-4, 1.0));
+  cli.add_option("--fringe-depth", c.fringe_depth,
+                 "How deep a fringe of fattened or misregistered surface may lie beyond the true edge; 0: none (m)")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
 }
 
 CLI::Option* add_xyz_option(CLI::App& cli, const std::string& name, std::vector<double>& xyz,

@@ -98,6 +98,16 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
   return p;
 }
 
+// The direction in which the rule's score grows fastest at point: where a fringe beyond the surface
+// moves the rule's choice.
+Vec3 rule_direction(const Vec3& point, const ToolFrame& frame, const TooltipConfig& config) {
+  if (frame.stick) return -frame.handle_axis();
+  const Vec3 from_hand = point.normalized();
+  if (frame.tip_at_far_end()) return from_hand;
+  if (config.rule == TooltipRule::furthest) return frame.effector_axis();
+  return (config.effector_weight * frame.effector_axis() + (1.0 - config.effector_weight) * from_hand).normalized();
+}
+
 // The point projected onto the frame's symmetry plane.
 Vec3 on_symmetry_plane(const Vec3& point, const ToolFrame& frame) {
   return point - (point - frame.origin).dot(frame.symmetry_axis()) * frame.symmetry_axis();
@@ -126,6 +136,17 @@ double local_noise(const KdTree& tree, const Vec3& point, int k) {
 
 }  // namespace
 
+double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config) {
+  if (config.fringe_depth <= 0.0) return 0.0;
+  const double step = config.tip_edge_radius / 5.0;
+  const int steps = static_cast<int>(std::round(config.fringe_depth / step));
+  const auto density = [&](int k) { return tree.count_within(point - k * step * direction, config.tip_edge_radius); };
+  const std::size_t behind = density(steps);
+  for (int k = 0; k < steps; ++k)
+    if (2 * density(k) >= behind) return k * step;
+  return config.fringe_depth;
+}
+
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config) {
   const KdTree tree(points);
   const Pick p = pick(points, tree, frame, config);
@@ -139,7 +160,14 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   tip.tied = static_cast<int>(p.tied.size());
   tip.surface_point = points[p.chosen];
   tip.score = p.score;
-  tip.position = on_symmetry_plane(points[p.chosen], frame);
+  // The rule's tip on the surface's edge, behind any fringe, projected onto the symmetry plane.
+  const auto on_edge = [&](const Vec3& point, const ToolFrame& f, double* retreat = nullptr) {
+    const Vec3 direction = rule_direction(point, f, config);
+    const double back = edge_retreat(tree, point, direction, config);
+    if (retreat) *retreat = back;
+    return on_symmetry_plane(point - back * direction, f);
+  };
+  tip.position = on_edge(points[p.chosen], frame, &tip.edge_retreat_m);
   tip.position_in_tool = frame.axes.transpose() * (tip.position - frame.origin);
   tip.position_in_tool.z() = 0.0;
 
@@ -156,7 +184,7 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   std::size_t other_tied = p.tied.size();  // the best of those farther than ambiguity-distance
   for (std::size_t j = 0; j < p.tied.size(); ++j) {
     if (p.tie_breaks[j] < best - 2 * sigma) continue;
-    const double d = (on_symmetry_plane(points[p.tied[j]], frame) - tip.position).norm();
+    const double d = (on_edge(points[p.tied[j]], frame) - tip.position).norm();
     tip.uncertainty_m = std::max(tip.uncertainty_m, d);
     if (d > config.ambiguity_distance && (other_tied == p.tied.size() || p.tie_breaks[j] > p.tie_breaks[other_tied]))
       other_tied = j;
@@ -164,7 +192,7 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   // Alternatives: that point, and the rule's tip on every other symmetry plane that scored as well as
   // the chosen one (a T, a square plate, a flat blade seen edge-on).
   if (other_tied < p.tied.size())
-    tip.alternatives.push_back({on_symmetry_plane(points[p.tied[other_tied]], frame), frame.symmetry_axis(),
+    tip.alternatives.push_back({on_edge(points[p.tied[other_tied]], frame), frame.symmetry_axis(),
                                 frame.symmetry_score, "tied point"});
   // And the tip on every rival plane: one of another basin that mirrors the head nearly as well.
   const auto add_plane_tips = [&](const std::vector<SymmetryCandidate>& planes, const char* source) {
@@ -173,7 +201,7 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
       const ToolFrame other = with_symmetry_plane(points, frame, plane.normal);
       const Pick q = pick(points, tree, other, config);
       if (q.chosen == KdTree::npos) continue;
-      tip.alternatives.push_back({on_symmetry_plane(points[q.chosen], other), other.symmetry_axis(), plane.score, source});
+      tip.alternatives.push_back({on_edge(points[q.chosen], other), other.symmetry_axis(), plane.score, source});
     }
   };
   add_plane_tips(frame.tied_planes, "tied symmetry plane");

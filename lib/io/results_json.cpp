@@ -253,7 +253,9 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
         {"score", tooltip.score},
         {"candidates", tooltip.candidates},
         {"rejected_sparse", tooltip.rejected_sparse},
-        {"density", {{"radius", config.density_radius}, {"min_neighbors", config.min_neighbors}}}}},
+        {"density", {{"radius", config.density_radius}, {"min_neighbors", config.min_neighbors}}},
+        {"edge", {{"retreat_m", tooltip.edge_retreat_m}, {"radius", config.tip_edge_radius},
+                  {"fringe_depth", config.fringe_depth}}}}},
   };
 }
 

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 
@@ -28,6 +29,11 @@ struct TooltipConfig {
   double hand_radius = 0.06;     // m: points this close to the hand origin are ignored
   double ambiguity_distance = 0.01; // m: an alternative tip this far from the chosen one makes the
                                     //    tooltip ambiguous (the accuracy a tool's use needs)
+  double tip_edge_radius = 0.005;   // m: the surface's density at the tip is counted within this (a few
+                                    //    sampling spacings of a reconstruction)
+  double fringe_depth = 0.01;       // m: how deep a fringe of fattened or misregistered surface may lie
+                                    //    beyond the true edge (the robot's clouds: a tenth of their points
+                                    //    lie more than 11 mm off the surface); 0: no fringe
 };
 
 // Another tip the rule could have given: on another symmetry plane that scored as well as the chosen
@@ -43,6 +49,7 @@ struct Tooltip {
   Vec3 position = Vec3::Zero();          // hand frame, on the symmetry plane
   Vec3 position_in_tool = Vec3::Zero();  // tool frame (z = 0)
   Vec3 surface_point = Vec3::Zero();     // the chosen cloud point before projection (hand frame)
+  double edge_retreat_m = 0.0;           // how far behind surface_point the surface's edge lies (the fringe)
   double score = 0.0;
   int candidates = 0;                    // effector-side points considered
   int rejected_sparse = 0;               // better-scoring candidates rejected by the density check
@@ -54,6 +61,10 @@ struct Tooltip {
   bool ambiguous = false;                // an alternative lies farther than ambiguity-distance away
   Confidence confidence;                 // the frame's, and whether another tip scores as well
 };
+
+// How far back from point, along -direction, the surface's edge lies: where the density within
+// tip-edge-radius first reaches half that of the surface fringe-depth behind the point. 0 at a sharp edge.
+double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config);
 
 // Throws MethodError when no effector-side point passes the density check.
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {});
