@@ -361,3 +361,22 @@ TEST(TooltipEdge, FringeRetreatsTowardsTheEdgeSharpEdgesAndThinPartsStay) {
   plate_with_fringe(0.008, outermost);
   EXPECT_EQ(edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), off), 0.0);
 }
+
+// A hoe's blade reaches forward only: its effector side is clear. A T-bar's crossbar reaches alike both
+// ways: nothing decides its side, and find-tooltip reports the tip at the bar's other end.
+TEST(ToolFrameAccuracy, UndecidedEffectorSideGivesTheOtherSidesTip) {
+  for (int g = 0; g < 4; ++g) {
+    const auto hoe = make_held_tool(ToolFamily::hoe, 70u + g);
+    EXPECT_TRUE(estimate_tool_frame(hoe.observed).effector_side_clear) << "hoe grasp " << g;
+    const auto bar = make_held_tool(ToolFamily::t_bar, 70u + g);
+    const ToolFrame frame = estimate_tool_frame(bar.observed);
+    ASSERT_FALSE(frame.effector_side_clear) << "t-bar grasp " << g;
+    const Tooltip tip = find_tooltip(bar.observed, frame);
+    const auto other = std::find_if(tip.alternatives.begin(), tip.alternatives.end(),
+                                    [](const TooltipAlternative& a) { return a.source == "other effector side"; });
+    ASSERT_NE(other, tip.alternatives.end()) << "t-bar grasp " << g;
+    // The bar's two ends lie its length apart, on either side of the handle.
+    EXPECT_GT((other->position - tip.position).norm(), 0.5 * bar.shape.head_length) << "t-bar grasp " << g;
+    EXPECT_FALSE(tip.confidence.confident);
+  }
+}

@@ -545,6 +545,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     }
   }
 
+  frame.effector_side_clear = frame.salient_effector || curled;
   frame.axes.col(0) = x_axis;
   frame.axes.col(1) = y_axis;
   frame.axes.col(2) = x_axis.cross(y_axis);  // right-handed by construction

@@ -206,13 +206,24 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   };
   add_plane_tips(frame.tied_planes, "tied symmetry plane");
   add_plane_tips(frame.rival_planes, "rival symmetry plane");
+  // And, when neither salience nor a curl decided the effector's side, the rule's tip on the other side.
+  if (!frame.effector_side_clear && !frame.stick && !frame.tip_at_far_end()) {
+    ToolFrame reversed = frame;
+    reversed.axes.col(0) = -frame.effector_axis();
+    reversed.axes.col(2) = -frame.symmetry_axis();
+    const Pick q = pick(points, tree, reversed, config);
+    if (q.chosen != KdTree::npos)
+      tip.alternatives.push_back({on_edge(points[q.chosen], reversed), reversed.symmetry_axis(), frame.symmetry_score,
+                                  "other effector side"});
+  }
   double farthest = tip.uncertainty_m;
   for (const auto& a : tip.alternatives) farthest = std::max(farthest, (a.position - tip.position).norm());
   tip.ambiguous = farthest > config.ambiguity_distance;
   tip.confidence = frame.confidence;
   tip.confidence.check(1.0 - farthest / config.ambiguity_distance,
-                       fmt::format("another tip {:.0f} mm away scores as well (a tied point, a tied or rival symmetry plane), beyond "
-                                   "ambiguity-distance ({:.0f} mm)", 1000 * farthest, 1000 * config.ambiguity_distance));
+                       fmt::format("another tip {:.0f} mm away scores as well (a tied point, a tied or rival symmetry "
+                                   "plane, the other effector side), beyond ambiguity-distance ({:.0f} mm)",
+                                   1000 * farthest, 1000 * config.ambiguity_distance));
   return tip;
 }
 

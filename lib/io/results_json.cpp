@@ -61,6 +61,7 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"effector_sign_rule", frame.effector_sign_rule},
         {"effector_reach", {{"positive", frame.effector_reach_positive}, {"negative", frame.effector_reach_negative}}},
         {"salient_effector", frame.salient_effector},
+        {"effector_side_clear", frame.effector_side_clear},
         {"head_extent_m", frame.head_extent},
         {"stick", frame.stick},
         {"head", {{"length_m", frame.head_length}, {"width_m", frame.head_width}}},
@@ -92,6 +93,8 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   const Json none;
   const Json& diagnostics = json.contains("diagnostics") && json["diagnostics"].is_object() ? json["diagnostics"] : none;
   if (diagnostics.contains("stick") && diagnostics["stick"].is_boolean()) frame.stick = diagnostics["stick"].get<bool>();
+  if (diagnostics.contains("effector_side_clear") && diagnostics["effector_side_clear"].is_boolean())
+    frame.effector_side_clear = diagnostics["effector_side_clear"].get<bool>();
   if (json.contains("head_kind")) {
     if (!json["head_kind"].is_string()) throw InputError(path, "head_kind must be a string");
     try {

@@ -121,6 +121,7 @@ struct ToolFrame {
   double effector_reach_positive = 0.0;   // m, along +X from the handle axis
   double effector_reach_negative = 0.0;   // m, along -X
   bool salient_effector = false;
+  bool effector_side_clear = true;        // salience or the head's curl decided the effector's side
   bool head_is_blade = false;             // the head is a plate along the handle (see blade_flatness)
   HeadKind head_kind = HeadKind::other;
   double head_length = 0.0, head_width = 0.0;  // m: the head's extent along the handle and across the plane
