@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 
 #include "toolinc/ann/kdtree.hpp"
@@ -160,12 +161,27 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   tip.tied = static_cast<int>(p.tied.size());
   tip.surface_point = points[p.chosen];
   tip.score = p.score;
-  // The rule's tip on the surface's edge, behind any fringe, projected onto the symmetry plane.
+  // The rule's tip projected onto the symmetry plane and moved back off the fringe to the surface's edge.
+  // The edge is sought among the points projected there too: the head's whole width piles up on the
+  // plane, so a lobe of fringe at one side of it is sparse against it. One projection per plane.
+  std::deque<std::pair<Vec3, KdTree>> projections;
+  const auto projected = [&](const ToolFrame& f) -> const KdTree& {
+    for (const auto& [normal, projection] : projections)
+      if (std::abs(normal.dot(f.symmetry_axis())) > 1.0 - 1e-12) return projection;
+    Points flat;
+    flat.reserve(points.size());
+    for (const auto& q : points) flat.push_back(on_symmetry_plane(q, f));
+    return projections.emplace_back(f.symmetry_axis(), KdTree(flat)).second;
+  };
   const auto on_edge = [&](const Vec3& point, const ToolFrame& f, double* retreat = nullptr) {
-    const Vec3 direction = rule_direction(point, f, config);
-    const double back = edge_retreat(tree, point, direction, config);
+    const Vec3 z = f.symmetry_axis(), on_plane = on_symmetry_plane(point, f);
+    Vec3 direction = rule_direction(point, f, config);
+    direction -= direction.dot(z) * z;
+    if (direction.norm() < 1e-9) return on_plane;
+    direction.normalize();
+    const double back = edge_retreat(projected(f), on_plane, direction, config);
     if (retreat) *retreat = back;
-    return on_symmetry_plane(point - back * direction, f);
+    return Vec3(on_plane - back * direction);
   };
   tip.position = on_edge(points[p.chosen], frame, &tip.edge_retreat_m);
   tip.position_in_tool = frame.axes.transpose() * (tip.position - frame.origin);
