@@ -7,6 +7,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <optional>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/error.hpp"
@@ -164,14 +165,20 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   // The rule's tip projected onto the symmetry plane and moved back off the fringe to the surface's edge.
   // The edge is sought among the points projected there too: the head's whole width piles up on the
   // plane, so a lobe of fringe at one side of it is sparse against it. One projection per plane.
-  std::deque<std::pair<Vec3, KdTree>> projections;
+  struct Projection {
+    Vec3 normal;
+    Points points;
+    std::optional<KdTree> tree;  // over points, which it refers to: built in place, never moved
+  };
+  std::deque<Projection> projections;
   const auto projected = [&](const ToolFrame& f) -> const KdTree& {
-    for (const auto& [normal, projection] : projections)
-      if (std::abs(normal.dot(f.symmetry_axis())) > 1.0 - 1e-12) return projection;
-    Points flat;
-    flat.reserve(points.size());
-    for (const auto& q : points) flat.push_back(on_symmetry_plane(q, f));
-    return projections.emplace_back(f.symmetry_axis(), KdTree(flat)).second;
+    for (const auto& projection : projections)
+      if (std::abs(projection.normal.dot(f.symmetry_axis())) > 1.0 - 1e-12) return *projection.tree;
+    Projection& projection = projections.emplace_back();
+    projection.normal = f.symmetry_axis();
+    projection.points.reserve(points.size());
+    for (const auto& q : points) projection.points.push_back(on_symmetry_plane(q, f));
+    return projection.tree.emplace(projection.points);
   };
   const auto on_edge = [&](const Vec3& point, const ToolFrame& f, double* retreat = nullptr) {
     const Vec3 z = f.symmetry_axis(), on_plane = on_symmetry_plane(point, f);
