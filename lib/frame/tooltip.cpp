@@ -212,32 +212,27 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
     if (d > config.ambiguity_distance && (other_tied == p.tied.size() || p.tie_breaks[j] > p.tie_breaks[other_tied]))
       other_tied = j;
   }
-  // Alternatives: that point, and the rule's tip on every other symmetry plane that scored as well as
-  // the chosen one (a T, a square plate, a flat blade seen edge-on).
+  // Alternatives: that point; the rule's tip on every other symmetry plane that scored as well as the
+  // chosen one (a T, a square plate, a flat blade seen edge-on) or nearly as well from another basin (a
+  // rival); and, when neither salience nor a curl decided the effector's side, the tip on the other side.
   if (other_tied < p.tied.size())
     tip.alternatives.push_back({on_edge(points[p.tied[other_tied]], frame), frame.symmetry_axis(),
                                 frame.symmetry_score, "tied point"});
-  // And the tip on every rival plane: one of another basin that mirrors the head nearly as well.
-  const auto add_plane_tips = [&](const std::vector<SymmetryCandidate>& planes, const char* source) {
-    for (const auto& plane : planes) {
-      if (std::abs(plane.normal.dot(frame.symmetry_axis())) > std::cos(M_PI / 36)) continue;  // the chosen plane
-      const ToolFrame other = with_symmetry_plane(points, frame, plane.normal);
-      const Pick q = pick(points, tree, other, config);
-      if (q.chosen == KdTree::npos) continue;
-      tip.alternatives.push_back({on_edge(points[q.chosen], other), other.symmetry_axis(), plane.score, source});
-    }
+  const auto add_tip_with = [&](const ToolFrame& other, double plane_score, const char* source) {
+    const Pick q = pick(points, tree, other, config);
+    if (q.chosen != KdTree::npos)
+      tip.alternatives.push_back({on_edge(points[q.chosen], other), other.symmetry_axis(), plane_score, source});
   };
-  add_plane_tips(frame.tied_planes, "tied symmetry plane");
-  add_plane_tips(frame.rival_planes, "rival symmetry plane");
-  // And, when neither salience nor a curl decided the effector's side, the rule's tip on the other side.
+  for (const auto& [planes, source] : {std::pair{&frame.tied_planes, "tied symmetry plane"},
+                                       std::pair{&frame.rival_planes, "rival symmetry plane"}})
+    for (const auto& plane : *planes)
+      if (std::abs(plane.normal.dot(frame.symmetry_axis())) <= std::cos(M_PI / 36))  // not the chosen plane
+        add_tip_with(with_symmetry_plane(points, frame, plane.normal), plane.score, source);
   if (!frame.effector_side_clear && !frame.stick && !frame.tip_at_far_end()) {
     ToolFrame reversed = frame;
     reversed.axes.col(0) = -frame.effector_axis();
     reversed.axes.col(2) = -frame.symmetry_axis();
-    const Pick q = pick(points, tree, reversed, config);
-    if (q.chosen != KdTree::npos)
-      tip.alternatives.push_back({on_edge(points[q.chosen], reversed), reversed.symmetry_axis(), frame.symmetry_score,
-                                  "other effector side"});
+    add_tip_with(reversed, frame.symmetry_score, "other effector side");
   }
   double farthest = tip.uncertainty_m;
   for (const auto& a : tip.alternatives) farthest = std::max(farthest, (a.position - tip.position).norm());
