@@ -205,19 +205,22 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
                                                                     : config.effector_weight * smoothed;
   const double best = *std::max_element(p.tie_breaks.begin(), p.tie_breaks.end());
   std::size_t other_tied = p.tied.size();  // the best of those farther than ambiguity-distance
+  Vec3 other_tied_position = Vec3::Zero();  // its tip
   for (std::size_t j = 0; j < p.tied.size(); ++j) {
     if (p.tie_breaks[j] < best - 2 * sigma) continue;
-    const double d = (on_edge(points[p.tied[j]], frame) - tip.position).norm();
+    const Vec3 position = on_edge(points[p.tied[j]], frame);
+    const double d = (position - tip.position).norm();
     tip.uncertainty_m = std::max(tip.uncertainty_m, d);
-    if (d > config.ambiguity_distance && (other_tied == p.tied.size() || p.tie_breaks[j] > p.tie_breaks[other_tied]))
+    if (d > config.ambiguity_distance && (other_tied == p.tied.size() || p.tie_breaks[j] > p.tie_breaks[other_tied])) {
       other_tied = j;
+      other_tied_position = position;
+    }
   }
   // Alternatives: that point; the rule's tip on every other symmetry plane that scored as well as the
   // chosen one (a T, a square plate, a flat blade seen edge-on) or nearly as well from another basin (a
   // rival); and, when neither salience nor a curl decided the effector's side, the tip on the other side.
   if (other_tied < p.tied.size())
-    tip.alternatives.push_back({on_edge(points[p.tied[other_tied]], frame), frame.symmetry_axis(),
-                                frame.symmetry_score, "tied point"});
+    tip.alternatives.push_back({other_tied_position, frame.symmetry_axis(), frame.symmetry_score, "tied point"});
   const auto add_tip_with = [&](const ToolFrame& other, double plane_score, const char* source) {
     const Pick q = pick(points, tree, other, config);
     if (q.chosen != KdTree::npos)
