@@ -362,6 +362,29 @@ TEST(TooltipEdge, FringeRetreatsTowardsTheEdgeSharpEdgesAndThinPartsStay) {
   EXPECT_EQ(edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), off), 0.0);
 }
 
+// A scoop's tip is its far end: the point farthest from the hand, which is a rim's corner (off the
+// handle's line), projected onto the symmetry plane, so at the rim's height. A fringe 8 mm deep beyond the
+// middle of the far edge reaches farther from the hand than the corners do, but along the handle, within
+// the noise of the tie; across the handle the corners stand 5 cm out.
+TEST(TooltipEdge, ScoopTipIsTheFarEdgesRimCornerNotTheFringeInItsMiddle) {
+  const double depth = 0.02, half_width = 0.045, far_end = -0.25;
+  Rng rng(9);
+  Points scoop;
+  for (double y = -0.15; y >= far_end; y -= 0.001)
+    for (double z = -half_width; z <= half_width + 1e-9; z += 0.001)
+      scoop.push_back(Vec3(depth * (z / half_width) * (z / half_width), y + rng.uniform(-0.0015, 0.0015), z));
+  for (double y = far_end; y >= far_end - 0.008; y -= 0.001)
+    for (double z = -0.02; z <= 0.02; z += 0.001)
+      if (rng.uniform() > (far_end - y) / 0.008) scoop.push_back(Vec3(0.0, y, z));
+  ToolFrame frame;
+  frame.origin = Vec3(0.0, -0.15, 0.0);
+  frame.head_kind = HeadKind::scoop;
+  const Tooltip tip = find_tooltip(scoop, frame);
+  EXPECT_NEAR(tip.position.x(), depth, 0.005) << "tip at " << tip.position.transpose();
+  EXPECT_NEAR(tip.position.y(), far_end, 0.005) << "tip at " << tip.position.transpose();
+  EXPECT_EQ(tip.position.z(), 0.0);
+}
+
 // A hoe's blade reaches forward only: its effector side is clear. A T-bar's crossbar reaches alike both
 // ways: nothing decides its side, and find-tooltip reports the tip at the bar's other end.
 TEST(ToolFrameAccuracy, UndecidedEffectorSideGivesTheOtherSidesTip) {

@@ -78,7 +78,13 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
   // times that noise; the mean's noise is about 3 times smaller. On a smooth surface its bias is second
   // order in the neighbourhood's size; at an edge (a hoe blade's bottom corner) it is first order and
   // draws the choice up the front by about a neighbourhood's radius.
+  // far end: among points tied at the far end, how far a point lies from the hand varies more with its
+  // distance from the line through the hand along the handle than with its noise along it: that distance,
+  // averaged over the same neighbours, decides (a scoop's rim corner, as the rule says).
   // A stick's: the middle of its far end, the tied point nearest their centroid.
+  const auto across_handle = [&](std::uint32_t i) {
+    return (points[i] - points[i].dot(frame.handle_axis()) * frame.handle_axis()).norm();
+  };
   Vec3 end_centre = Vec3::Zero();
   for (auto i : p.tied) end_centre += points[i] / static_cast<double>(p.tied.size());
   double best = -std::numeric_limits<double>::infinity();
@@ -89,7 +95,7 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
     } else if (frame.tip_at_far_end() || config.rule == TooltipRule::weighted) {
       const auto near = tree.knn(points[i], config.smoothing_neighbors);
       double sum = 0.0;
-      for (const auto& n : near) sum += frame.tip_at_far_end() ? points[n.index].norm() : front(n.index);
+      for (const auto& n : near) sum += frame.tip_at_far_end() ? across_handle(n.index) : front(n.index);
       const double mean = sum / static_cast<double>(near.size());
       t = frame.tip_at_far_end() ? mean : config.effector_weight * mean + (1.0 - config.effector_weight) * t;
     }

@@ -235,8 +235,8 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
                          "tie-tolerance of the farthest along the handle"
                    : frame.tip_at_far_end()
                        ? "a " + to_string(frame.head_kind) + " continuing the handle, which works with its far end: "
-                         "the farthest from the hand, averaged over the point's neighbours, among the points tied "
-                         "within tie-tolerance"
+                         "of the points tied within tie-tolerance of the farthest from the hand, the one farthest from "
+                         "the hand's line along the handle (a rim's corner), averaged over its neighbours"
                    : config.rule == TooltipRule::weighted
                        ? "best 0.8 x (in front of the effector plane) + 0.2 x (distance from the hand), the "
                          "distance in front averaged over the point's neighbours, among the points tied within "
