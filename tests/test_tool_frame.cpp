@@ -385,6 +385,31 @@ TEST(TooltipEdge, ScoopTipIsTheFarEdgesRimCornerNotTheFringeInItsMiddle) {
   EXPECT_EQ(tip.position.z(), 0.0);
 }
 
+// Smear behind a head (a sparse sheet along the cameras' rays, 6 % of its points) can reach as far back as
+// the head reaches forward: the reaches no longer tell the side. The head's points on average still lie
+// in front, so X points there, and the side is reported doubtful.
+TEST(ToolFrameAccuracy, SmearBehindTheHeadDoesNotReverseTheEffector) {
+  int right = 0;
+  constexpr int kGrasps = 8;
+  for (int g = 0; g < kGrasps; ++g) {
+    auto hoe = make_held_tool(ToolFamily::hoe, 90u + g);
+    const Eigen::Matrix3d rotation = hoe.grasp.topLeftCorner<3, 3>();
+    const Vec3 translation = hoe.grasp.topRightCorner<3, 1>();
+    Rng rng(static_cast<std::uint32_t>(g));
+    const double far_y = -hoe.shape.handle_length - hoe.shape.head_height;
+    const std::size_t smear = hoe.observed.size() / 16;
+    for (std::size_t k = 0; k < smear; ++k) {
+      const Vec3 canonical(-rng.uniform(0.02, hoe.shape.head_length + 0.01),
+                           rng.uniform(far_y, -hoe.shape.handle_length), rng.uniform(-0.005, 0.005));
+      hoe.observed.push_back(rotation * canonical + translation);
+    }
+    const ToolFrame frame = estimate_tool_frame(hoe.observed);
+    EXPECT_FALSE(frame.salient_effector) << "grasp " << g << ": the smear should make the reaches alike";
+    right += frame.effector_axis().dot(rotation.col(0)) > 0;
+  }
+  EXPECT_GE(right, kGrasps - 1) << right << " of " << kGrasps;
+}
+
 // A hoe's blade reaches forward only: its effector side is clear. A T-bar's crossbar reaches alike both
 // ways: nothing decides its side, and find-tooltip reports the tip at the bar's other end.
 TEST(ToolFrameAccuracy, UndecidedEffectorSideGivesTheOtherSidesTip) {

@@ -520,13 +520,25 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.effector_reach_negative = reach.negative;
   frame.salient_effector = reach.positive - reach.negative >= config.salience_min &&
                            reach.positive >= config.salience_ratio * std::max(reach.negative, 0.0);
+  // Without a salient side, the reaches' extremes are where smear lies, on both sides alike; the head's
+  // mean point, which a tenth of smeared points moves far less, tells the side its material is on. The
+  // side stays doubtful.
+  const bool has_head = static_cast<int>(head.size()) >= config.min_head_points;
+  if (!frame.salient_effector && has_head) {
+    double mean_x = 0.0;
+    for (auto i : head) mean_x += (cloud[i] - centre).dot(x_axis) / static_cast<double>(head.size());
+    if (mean_x < 0) {
+      x_axis = -x_axis;
+      std::swap(frame.effector_reach_positive, frame.effector_reach_negative);
+    }
+  }
   frame.effector_sign_rule = frame.salient_effector
                                  ? "salient side: the effector reaches farther along +X than along -X"
-                                 : "no salient effector: +X is the marginally longer reach, sign arbitrary";
+                                 : "no salient effector: +X towards the side the head's points lie on on average, "
+                                   "sign doubtful";
   // A blade or a scoop (a head thinnest along the effector axis, reaching less far along it than it is
   // wide) works with its concave side: when its edges curl to one side, that side is the effector's,
   // whichever reaches farther (a scoop's belly may bulge behind the handle's axis).
-  const bool has_head = static_cast<int>(head.size()) >= config.min_head_points;
   const bool thin_along_x =
       has_head && std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg);
   bool curled = false;
@@ -581,7 +593,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
                                      "thicker than the hand holds", 1000 * frame.handle_radius,
                                      1000 * config.grasp_max_radius));
   const double reach_difference = frame.effector_reach_positive - frame.effector_reach_negative;
-  if (!frame.stick && !curled && !frame.salient_effector && reach_difference >= config.salience_min)
+  if (!frame.stick && !curled && !frame.salient_effector && std::abs(reach_difference) >= config.salience_min)
     frame.confidence.check(0.0, fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "
                                             "to tell its side, too different for a symmetric head",
                                             1000 * frame.effector_reach_positive, 1000 * frame.effector_reach_negative));
