@@ -385,6 +385,27 @@ TEST(TooltipEdge, ScoopTipIsTheFarEdgesRimCornerNotTheFringeInItsMiddle) {
   EXPECT_EQ(tip.position.z(), 0.0);
 }
 
+// A blade is told from the head seen along the handle, before any plane is chosen: the shovel's scoop is
+// one (a plate centred on the handle's axis, reaching along it), and its plane is the one across it; a
+// hook or an L (reaching out on one side), a T's bar and a rake's comb (short along the handle) and a
+// hoe's blade (a head's length in front) are not.
+TEST(ToolFrameAccuracy, BladesAreCentredPlatesAlongTheHandle) {
+  constexpr int kGrasps = 12;
+  int blades = 0;
+  for (int g = 0; g < kGrasps; ++g) {
+    const auto shovel = make_held_tool(ToolFamily::shovel, 110u + g);
+    const ToolFrame frame = estimate_tool_frame(shovel.observed);
+    blades += frame.tip_at_far_end() &&
+              std::abs(frame.symmetry_axis().dot(shovel.grasp.topLeftCorner<3, 3>().col(2))) >= std::cos(10 * M_PI / 180);
+    for (ToolFamily family : {ToolFamily::hook, ToolFamily::l_stick, ToolFamily::t_bar, ToolFamily::rake, ToolFamily::hoe}) {
+      const auto other = make_held_tool(family, 110u + g);
+      EXPECT_FALSE(estimate_tool_frame(other.observed).head_is_blade) << to_string(family) << " grasp " << g;
+    }
+  }
+  // A grasp may hide a wing behind the hand's cut.
+  EXPECT_GE(blades, kGrasps - 2) << blades << " of " << kGrasps << " shovels a blade with the plane across it";
+}
+
 // Smear behind a head (a sparse sheet along the cameras' rays, 6 % of its points) can reach as far back as
 // the head reaches forward: the reaches no longer tell the side. The head's points on average still lie
 // in front, so X points there, and the side is reported doubtful.

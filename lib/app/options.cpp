@@ -58,7 +58,10 @@ void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
                  "Weight of a matched mirror image's distance against a contradicted image (1)")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--blade-flatness", c.blade_flatness,
-                 "A head thinner (RMS) than this share of its width, its plane along the handle, is a blade")
+                 "A blade, seen along the handle, is deep (RMS) at most this share of its width")
+      ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--blade-centring", c.blade_centring,
+                 "A blade's extent, seen along the handle, is centred on its axis within this share of its width")
       ->capture_default_str()->group(group)->check(CLI::Range(0.0, 1.0));
   cli.add_option("--front-band", c.front_band, "Depth of the effector's front telling a face from a corner (m)")
       ->capture_default_str()->group(group)->check(positive);

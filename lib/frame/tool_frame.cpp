@@ -24,6 +24,10 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
 constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis under stereo noise
+// A blade passes by the handle's axis: the middle of its depth, seen along the handle, lies within this
+// share of its width from it (a scoop's rims rise 0.1-0.3 of its width; a hoe's blade stands a head's
+// length, about its width or more, in front).
+constexpr double kBladeDepthOffset = 0.5;
 
 void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud,
                           const PrincipalAxes& axes, const ToolFrameConfig& config) {
@@ -273,18 +277,41 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud, 
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread.scatter);
 }
 
-// A blade: a head that is a plate containing the handle's direction (shovel, spatula). Its points'
-// smallest principal spread is below blade-flatness times the middle one, and the plate's normal lies
-// within 30 degrees of perpendicular to the handle. The plate's normal, or nothing.
-std::optional<Vec3> blade_normal(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& y_axis,
-                                 const ToolFrameConfig& config) {
+// A blade: a flat or curled plate continuing the handle (a shovel, a spatula). Seen along the handle, its
+// points are wider than deep (RMS the narrow way at most blade-flatness of the wide way), centred on the
+// handle's axis across (the middle of their extent within blade-centring of their width from it: a hook
+// or an L reaches out on one side) and passing by it in depth (kBladeDepthOffset), and reach along the
+// handle at least blade-min-aspect of their width. Decided without a symmetry plane, so
+// that it can choose one: a thin plate mirrors onto itself across its own plane, whatever its outline,
+// so that plane says nothing, and the tool's is the one across the plate. The direction across the
+// handle the plate is wide along (the plane's normal), or nothing.
+std::optional<Vec3> blade_across(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
+                                 const Vec3& y_axis, const Vec3& u, const Vec3& v, const ToolFrameConfig& config) {
   if (static_cast<int>(head.size()) < config.min_head_points) return std::nullopt;
-  const auto solver = head_spread(cloud, head);
-  const Eigen::Vector3d& eigenvalues = solver.eigenvalues();
-  const Vec3 normal = solver.eigenvectors().col(0);
-  if (eigenvalues(0) > config.blade_flatness * config.blade_flatness * eigenvalues(1)) return std::nullopt;
-  if (std::abs(normal.dot(y_axis)) > 0.5) return std::nullopt;
-  return normal;
+  const auto seen = scatter_of<2>(head.size(), [&](std::size_t j) {
+    const Vec3 d = cloud[head[j]] - handle_point;
+    return Eigen::Vector2d(d.dot(u), d.dot(v));
+  });
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(seen.scatter);
+  if (solver.eigenvalues()(0) > config.blade_flatness * config.blade_flatness * solver.eigenvalues()(1))
+    return std::nullopt;
+  const Eigen::Vector2d wide = solver.eigenvectors().col(1), deep = solver.eigenvectors().col(0);
+  std::vector<double> across, depth, along;
+  for (auto i : head) {
+    const Vec3 d = cloud[i] - handle_point;
+    const Eigen::Vector2d q(d.dot(u), d.dot(v));
+    across.push_back(q.dot(wide));
+    depth.push_back(q.dot(deep));
+    along.push_back(d.dot(y_axis));
+  }
+  // Extents between the 5 % quantiles: a tenth of smeared points does not move them.
+  const auto extent = [](const std::vector<double>& x) { return quantile(x, 0.95) - quantile(x, 0.05); };
+  const auto middle = [](const std::vector<double>& x) { return 0.5 * (quantile(x, 0.95) + quantile(x, 0.05)); };
+  const double width = extent(across);
+  if (std::abs(middle(across)) > config.blade_centring * width || std::abs(middle(depth)) > kBladeDepthOffset * width ||
+      extent(along) < config.blade_min_aspect * width)
+    return std::nullopt;
+  return Vec3(wide.x() * u + wide.y() * v);
 }
 
 // Whether the effector's front along x_axis is a face rather than a corner: the effector-side points
@@ -448,7 +475,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
   // effector reaches farthest, since the effector axis is the head's forward extent.
   const auto& sweep = frame.symmetry_candidates;
-  const std::optional<Vec3> blade = blade_normal(cloud, head, y_axis, config);
+  const std::optional<Vec3> blade = blade_across(cloud, head, centre, y_axis, u, v, config);
   frame.head_is_blade = blade.has_value();
   // A front that is a corner, not a face, loses to one that is.
   double best_angle = 0.0;
@@ -462,20 +489,26 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     const bool face = front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis),
                                     config.front_band);
     frame.tied_planes.push_back({angle / kDeg, normal_at(angle), score});
-    const std::pair<bool, double> merit = blade ? std::pair{true, -std::abs(normal_at(angle).dot(*blade))}
-                                                : std::pair{face, std::max(r.positive, r.negative)};
+    const std::pair<bool, double> merit{face, std::max(r.positive, r.negative)};
     if (merit > best_merit) {
       best_merit = merit;
       best_angle = angle;
     }
+  }
+  // A blade's plane is the one across it, refined by the mirror within a step: its own plane mirrors any
+  // thin plate, and it often mirrors best.
+  if (blade) {
+    const double across = std::atan2(blade->dot(v), blade->dot(u));
+    best_angle = golden_minimum(score_at, across - step, across + step, 8).first;
   }
   // A bar's half-seen surface mirrors best across planes facing the cameras, but the bar's axis does
   // not depend on which side was seen: when the head is a bar along the chosen plane, the plane is
   // parallel to the handle and contains the bar's axis. Otherwise it contains the handle's axis line.
   double offset = 0.0;
   frame.symmetry_plane_rule =
-      frame.tied_planes.size() < 2 ? "best mirror about the handle axis"
-      : blade ? fmt::format("of {} planes mirroring as well, the one across the blade", frame.tied_planes.size())
+      blade ? "across the blade (a plate continuing the handle, centred on its axis), whose own plane any thin "
+              "plate mirrors across"
+      : frame.tied_planes.size() < 2 ? "best mirror about the handle axis"
               : fmt::format("of {} planes mirroring as well, the one whose effector front is a face, not a corner, "
                             "and reaches farthest", frame.tied_planes.size());
   if (const auto line = head_line(cloud, head, centre, u, v, config)) {
@@ -563,8 +596,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.axes.col(2) = x_axis.cross(y_axis);  // right-handed by construction
   frame.hand_to_handle = radial_distance(handle_line, Vec3::Zero());
 
-  // The head's kind, once: a plate whose length along the handle is a good share of its width continues
-  // the handle (a shovel), one much wider than long lies across it (a rake's comb).
+  // The head's kind, once: a blade (curled: a scoop) continues the handle and works with its far end; a
+  // plate thinnest along X that is no blade lies across the handle (a rake's comb, a hoe's blade).
   if (has_head) {
     std::vector<double> along, across;
     for (auto i : head) {
@@ -574,13 +607,11 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     frame.head_length = quantile(along, 0.95) - quantile(along, 0.05);
     frame.head_width = quantile(across, 0.95) - quantile(across, 0.05);
   }
-  const bool continues_handle = frame.head_length >= config.blade_min_aspect * frame.head_width;
   if (frame.stick) {
     frame.head_kind = HeadKind::none;
   } else if (frame.head_kind != HeadKind::bar) {
-    if (blade && continues_handle) frame.head_kind = HeadKind::blade;
-    else if (curled && continues_handle) frame.head_kind = HeadKind::scoop;
-    else if (blade || thin_along_x) frame.head_kind = HeadKind::plate;
+    if (blade) frame.head_kind = curled ? HeadKind::scoop : HeadKind::blade;
+    else if (thin_along_x) frame.head_kind = HeadKind::plate;
   }
   // Doubts: a handle that does not pass by the hand is not the one it holds; an effector whose two
   // sides reach differently, but not by enough to be salient, may have its side reversed (a tool whose

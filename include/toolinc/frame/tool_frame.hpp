@@ -47,8 +47,16 @@ struct ToolFrameConfig {
   double head_line_elongation = 16.0; // a head whose points, seen along the handle, spread this many
                                     //    times more (variance) along a line than across it is a bar:
                                     //    the symmetry plane near that line contains it
-  double blade_flatness = 0.3;      // a head whose RMS thickness is below this share of its width,
-                                    //    its plane along the handle, is a blade (shovel, spatula)
+  double blade_flatness = 0.7;      // a blade (a flat or curled plate continuing the handle: shovel,
+                                    //    spatula), seen along the handle, is deep (RMS) at most this share
+                                    //    of its width: wider than deep (a scoop 0.2-0.5 with smear)
+  double blade_centring = 0.15;     // ... and centred on the handle's axis across it: the middle of its
+                                    //    extent lies within this share of its width from the axis (a
+                                    //    shovel's blade within 0.1; a hook or an L, reaching out on one
+                                    //    side, 0.25-0.5)
+  double blade_min_aspect = 0.5;    // ... and reaches along the handle at least this share of its width
+                                    //    (a shovel's blade 0.8-2, a spatula more; a rake's comb or a T's
+                                    //    bar 0.1-0.3): its tip is its far end
   double front_band = 0.01;         // m: depth of the effector's front when telling a face (its points
                                     //    grow like the depth) from a corner (like its square); deeper than the
                                     //    noise lifts the foremost point (~3 sigma)
@@ -65,9 +73,6 @@ struct ToolFrameConfig {
   double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
   double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
   double salience_min = 0.01;       // ... this ratio and this many metres
-  double blade_min_aspect = 0.5;    // a blade or scoop whose head reaches along the handle at least this
-                                    //    share of its width continues the handle (a shovel's blade 0.8-2,
-                                    //    a spatula more; a rake's comb 0.2-0.3): its tip is its far end
   double grasp_reach = 0.10;        // m: the hand holds the handle, so the handle's axis passes within
                                     //    this of the hand's origin (the original's grasp check: the tool
                                     //    at most 10 cm from the hand); a farther axis is doubtful
@@ -122,7 +127,7 @@ struct ToolFrame {
   double effector_reach_negative = 0.0;   // m, along -X
   bool salient_effector = false;
   bool effector_side_clear = true;        // salience or the head's curl decided the effector's side
-  bool head_is_blade = false;             // the head is a plate along the handle (see blade_flatness)
+  bool head_is_blade = false;             // the head is a blade (see blade_flatness)
   HeadKind head_kind = HeadKind::other;
   double head_length = 0.0, head_width = 0.0;  // m: the head's extent along the handle and across the plane
   double hand_to_handle = 0.0;            // m: distance from the hand's origin to the handle's axis line
