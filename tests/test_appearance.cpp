@@ -56,7 +56,7 @@ const char* to_string(Paint paint) { return paint == Paint::palette ? "palette" 
 
 // Which seeds the simulated sessions use: set 0 unless TOOLINC_APPEARANCE_SEED_SET=N names another (each
 // set shifts every seed by 100000), to measure the recognition figures on sessions the assertions were
-// not set by (README; the assertions hold for set 0).
+// not set by (docs/method.md; the assertions hold for set 0).
 std::uint32_t seed_set() {
   static const std::uint32_t set = [] {
     const char* text = std::getenv("TOOLINC_APPEARANCE_SEED_SET");
@@ -66,7 +66,7 @@ std::uint32_t seed_set() {
 }
 
 // The stereo the simulated sessions use: ideal unless TOOLINC_APPEARANCE_STEREO=sgbm names the robot's
-// (README: how recognition fares on it; the assertions hold for ideal).
+// (docs/method.md: how recognition fares on it; the assertions hold for ideal).
 StereoModel stereo() {
   static const StereoModel model = [] {
     const char* text = std::getenv("TOOLINC_APPEARANCE_STEREO");
@@ -596,7 +596,7 @@ AppearanceClassifier train_on(const std::vector<std::string>& dirs) {
 // Three grasps of each of the six families for training, two others for testing: the best label (every
 // tool here is known), and the answer with the classifier's own unknown floor (printed).
 // Issue 18 asks for >= 90 % of views and >= 11 of 12 sessions with grey tools, >= 95 % of views with
-// palette colours. Measured (README): 60/60 views, 12/12 sessions for grey, palette and family colours on
+// palette colours. Measured (docs/method.md): 60/60 views, 12/12 sessions for grey, palette and family colours on
 // these seeds (set 0); on five other seed sets 94.0 % of views grey, 93.3 % palette, so the issue's
 // floors are asserted (not the 100 % of these seeds).
 // known_floor: the sessions the classifier must still answer right with its own unknown rules (the
@@ -651,11 +651,11 @@ std::pair<Tally, Tally> leave_family_out(Paint paint) {
 }
 
 // Issue 18 asks for >= 80 % of the left-out sessions unknown with >= 90 % of the known right. Measured
-// (README) with the classifier's own rules (the floor on the best score; the distance from every training
+// (docs/method.md) with the classifier's own rules (the floor on the best score; the distance from every training
 // session of the answer, each column of the depth block in units of its spread between the training
 // grasps of one tool, beyond the largest distance from a training session to its nearest sibling; unless
 // the best score is above any a tool never seen got in training): each family its own colour, unknown
-// 27/30, known 60/60; palette colours, unknown 25/30, known 54/60. On five other seed sets: see the README.
+// 27/30, known 60/60; palette colours, unknown 25/30, known 54/60. On five other seed sets: see docs/method.md.
 // CI's Clang sanitizer build measures family colours 25/30 and 60/60, palette 23/30 and 53/60: the
 // discrete choices of training (lambda among 25 candidates, the blocks' weights among 5) and the two rules'
 // maxima (the radius, the sure score) move with the compiler's rounding. Asserted: the issue's 80 %

@@ -69,7 +69,7 @@ TEST(SessionPipeline, BlobDetectionWithoutAMask) {
 TEST(SessionPipeline, EveryFamilyManySessions) {
   // Measured on 8 families x 10 grasps: the merged model and the tooltip from the whole pipeline. The
   // merge floors are the issue's; the tooltip floor is a regression floor below the 95 % (74 of
-  // 80 here, 92 %). Over more sessions (evaluate-sessions, README) the rate is about 95 %. The
+  // 80 here, 92 %). Over more sessions (evaluate-sessions, docs/accuracy.md) the rate is about 95 %. The
   // exploration sees the tool from one side: where the effector points away from the cameras its front
   // face is never seen, and the tip found lies about the effector's thickness behind.
   int sessions = 0, tips_within_10mm = 0;
