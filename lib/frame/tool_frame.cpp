@@ -224,6 +224,16 @@ std::vector<std::size_t> basin_minima(const std::vector<SymmetryCandidate>& swee
   return minima;
 }
 
+// The head's points seen along the handle: their coordinates along u and v (across the handle) from
+// handle_point, as a mean and scatter.
+Scatter<2> seen_along_handle(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
+                             const Vec3& u, const Vec3& v) {
+  return scatter_of<2>(head.size(), [&](std::size_t j) {
+    const Vec3 d = cloud[head[j]] - handle_point;
+    return Eigen::Vector2d(d.dot(u), d.dot(v));
+  });
+}
+
 // Seen along the handle, the head of a bar-like tool (L, T, hook) lies along a line, and the symmetry
 // plane contains it. The line of the head's points when they spread along it at least head-line-elongation
 // times more (variance) than across it; nothing for plates and combs (hoe, rake, flat top), nor when
@@ -235,10 +245,7 @@ struct HeadLine {
 std::optional<HeadLine> head_line(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
                                   const Vec3& u, const Vec3& v, const ToolFrameConfig& config) {
   if (static_cast<int>(head.size()) < config.min_head_points) return std::nullopt;
-  const auto seen = scatter_of<2>(head.size(), [&](std::size_t j) {
-    const Vec3 d = cloud[head[j]] - handle_point;
-    return Eigen::Vector2d(d.dot(u), d.dot(v));
-  });
+  const Scatter<2> seen = seen_along_handle(cloud, head, handle_point, u, v);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(seen.scatter);
   if (solver.eigenvalues()(1) < config.head_line_elongation * std::max(solver.eigenvalues()(0), 1e-12))
     return std::nullopt;
@@ -288,10 +295,7 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud, 
 std::optional<Vec3> blade_across(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& handle_point,
                                  const Vec3& y_axis, const Vec3& u, const Vec3& v, const ToolFrameConfig& config) {
   if (static_cast<int>(head.size()) < config.min_head_points) return std::nullopt;
-  const auto seen = scatter_of<2>(head.size(), [&](std::size_t j) {
-    const Vec3 d = cloud[head[j]] - handle_point;
-    return Eigen::Vector2d(d.dot(u), d.dot(v));
-  });
+  const Scatter<2> seen = seen_along_handle(cloud, head, handle_point, u, v);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(seen.scatter);
   if (solver.eigenvalues()(0) > config.blade_flatness * config.blade_flatness * solver.eigenvalues()(1))
     return std::nullopt;
