@@ -1,5 +1,7 @@
 // align-pose --model MODEL --view VIEW.ply -o POSE.json [--oriented ORIENTED.ply] [--tooltip TIP.json]:
 // how a known tool is held, from one partial view (paper sect. 5).
+#include "toolinc/registration/align_pose.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -9,7 +11,6 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/results_json.hpp"
-#include "toolinc/registration/align_pose.hpp"
 
 using namespace toolinc;
 
@@ -28,7 +29,9 @@ int main(int argc, char** argv) {
   add_tooltip_options(command.cli(), tooltip_config, rule);
   return command.run(argc, argv, [&] {
     const auto start = std::chrono::steady_clock::now();
-    const auto since = [](auto t) { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count(); };
+    const auto since = [](auto t) {
+      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+    };
     tooltip_config.rule = tooltip_rule_from_string(rule);
     tooltip_config.hand_radius = config.hand_radius;
     const PointCloud model = load_cloud(model_file);
@@ -50,15 +53,15 @@ int main(int argc, char** argv) {
       return tooltip_json(carried.tooltip, carried.frame, tooltip_config);
     }();
     const Feasibility& f = result.feasibility;
-    spdlog::info("pose: translation ({:.4f}, {:.4f}, {:.4f}) m, tilt {:.1f}, roll {:.1f}, about the handle {:.1f} "
-                 "deg; inliers {:.1f}% (RMSE {:.2f} mm); {} hypotheses{}",
-                 f.translation.x(), f.translation.y(), f.translation.z(), f.tilt_deg, f.roll_deg,
-                 f.about_handle_deg, 100.0 * result.best.inlier_ratio, 1000.0 * result.best.inlier_rmse,
-                 result.hypotheses, result.ambiguous ? "; ambiguous: poses fitting equally well are listed" : "");
+    spdlog::info(
+        "pose: translation ({:.4f}, {:.4f}, {:.4f}) m, tilt {:.1f}, roll {:.1f}, about the handle {:.1f} "
+        "deg; inliers {:.1f}% (RMSE {:.2f} mm); {} hypotheses{}",
+        f.translation.x(), f.translation.y(), f.translation.z(), f.tilt_deg, f.roll_deg, f.about_handle_deg,
+        100.0 * result.best.inlier_ratio, 1000.0 * result.best.inlier_rmse, result.hypotheses,
+        result.ambiguous ? "; ambiguous: poses fitting equally well are listed" : "");
     write_json(command.output(), tool_pose_json(result, config, model_file, view_file, model_ms, since(start)));
     if (!f.feasible) throw MethodError("infeasible pose: " + f.reason + " (report written, \"ok\": false)");
-    if (!oriented_file.empty())
-      write_ply(oriented_file, oriented_model(model, pose), {false, command.command_line()});
+    if (!oriented_file.empty()) write_ply(oriented_file, oriented_model(model, pose), {false, command.command_line()});
     if (!tooltip_file.empty()) write_json(tooltip_file, tooltip);
   });
 }

@@ -55,10 +55,11 @@ double median_of(const Summary& s, double (*figure)(const CloudFigures&)) {
 
 // `interval`: the tip share's 95 % (Wilson) interval after it.
 void print_figures(const Summary& s, bool interval) {
-  const int tips = static_cast<int>(std::count_if(s.clouds.begin(), s.clouds.end(),
-                                                  [](const CloudFigures& c) { return c.tip_gap_m <= kTipReach; }));
+  const int tips = static_cast<int>(
+      std::count_if(s.clouds.begin(), s.clouds.end(), [](const CloudFigures& c) { return c.tip_gap_m <= kTipReach; }));
   const int n = static_cast<int>(s.clouds.size()) + s.failed;
-  std::printf(" %6.1f %6.1f %5.2f %5.2f %5.2f %6.1f %3d/%-3d", 1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.median_m; }),
+  std::printf(" %6.1f %6.1f %5.2f %5.2f %5.2f %6.1f %3d/%-3d",
+              1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.median_m; }),
               1000 * median_of(s, [](const CloudFigures& c) { return c.accuracy.p90_m; }),
               median_of(s, [](const CloudFigures& c) { return c.accuracy.beyond; }),
               median_of(s, [](const CloudFigures& c) { return c.coverage_5mm; }),
@@ -154,8 +155,8 @@ int main(int argc, char** argv) {
     };
     for (const auto& rec_path : reconstructions) {
       if (!std::filesystem::exists(model_of(rec_path)))
-        throw toolinc::InputError(model_of(rec_path).string(), "no model for the reconstruction " +
-                                                                   rec_path.filename().string());
+        throw toolinc::InputError(model_of(rec_path).string(),
+                                  "no model for the reconstruction " + rec_path.filename().string());
       const auto model_file = model_of(rec_path).filename();
       models.erase(std::remove_if(models.begin(), models.end(),
                                   [&](const std::filesystem::path& m) { return m.filename() == model_file; }),
@@ -195,9 +196,9 @@ int main(int argc, char** argv) {
         const std::string name = model_path.stem().string();
         const toolinc::PointCloud model = toolinc::load_cloud(model_path.string());
         Summary robot;
-        robot.clouds.push_back(toolinc::reconstruction_figures(
-            model.points, toolinc::load_cloud(rec_path.string()).points,
-            toolinc::truth_tip_of_kind(toolinc::model_kind(model_path.string()))));
+        robot.clouds.push_back(
+            toolinc::reconstruction_figures(model.points, toolinc::load_cloud(rec_path.string()).points,
+                                            toolinc::truth_tip_of_kind(toolinc::model_kind(model_path.string()))));
         const Summary simulated = simulate(model_session(model, model_path), name);
         print_row(name, &robot, simulated);
         robot_all.add(robot);

@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   toolinc::add_xyz_option(cli, "--box-max", box_max, "Hand-frame crop box maximum x y z (m)");
   cli.add_option("--hand-radius", config.hand_radius, "Points this close to the hand origin are the hand's (m)")
       ->capture_default_str();
-  cli.add_option("--outlier-neighbors", config.outlier_neighbors, "Statistical outlier removal: k")->capture_default_str();
+  cli.add_option("--outlier-neighbors", config.outlier_neighbors, "Statistical outlier removal: k")
+      ->capture_default_str();
   cli.add_option("--outlier-std", config.outlier_std, "Statistical outlier removal: deviations")->capture_default_str();
   cli.add_option("--min-points", config.min_points, "Fewer points left is a failure (exit 3)")->capture_default_str();
   cli.add_flag("--flood", config.flood, "Keep only the region 3D-connected to the blob's centre");
@@ -52,7 +53,8 @@ int main(int argc, char** argv) {
       folder.emplace(command.output());
     } else {
       if (view < 0 || static_cast<std::size_t>(view) >= session.views.size())
-        throw toolinc::InputError(session_dir, fmt::format("no view {} (the session has {})", view, session.views.size()));
+        throw toolinc::InputError(session_dir,
+                                  fmt::format("no view {} (the session has {})", view, session.views.size()));
       views.push_back(static_cast<std::size_t>(view));
     }
     int failed = 0;

@@ -78,7 +78,8 @@ int main(int argc, char** argv) {
   toolinc::TooltipConfig tooltip_config;
   std::string rule;  // add_tooltip_options sets its default
   auto& cli = command.cli();
-  cli.add_option("models", inputs, "Canonical models (handle from the origin along -Y, effector +X), or folders of them")
+  cli.add_option("models", inputs,
+                 "Canonical models (handle from the origin along -Y, effector +X), or folders of them")
       ->required();
   cli.add_option("--kinds", kinds_file,
                  "JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters (hok -> hook, ...)");
@@ -114,8 +115,7 @@ int main(int argc, char** argv) {
       for (int g = 0; g < grasps; ++g) {
         const Eigen::Matrix4d grasp = toolinc::random_grasp({}, rng);
         const auto e = toolinc::evaluate_held_tool(model.points, symmetry, toolinc::truth_tip_of_kind(kind), grasp,
-                                                   hand_radius, noise, rng,
-                                                   frame_config, tooltip_config);
+                                                   hand_radius, noise, rng, frame_config, tooltip_config);
         if (!e.failure.empty()) spdlog::warn("{} grasp {}: {}", path, g, e.failure);
         tally.add(e, mirror), by_kind[kind].add(e, mirror), all.add(e, mirror);
       }
@@ -133,16 +133,22 @@ int main(int argc, char** argv) {
       per_kind.push_back(tally_json("kind", kind, tally));
     }
     print_row(table, "all", "", all);
-    std::fprintf(table, "\nall: %d cases, %d failed; right-handed %d/%d; tooltip within 10 mm %s; handle axis within "
+    std::fprintf(table,
+                 "\nall: %d cases, %d failed; right-handed %d/%d; tooltip within 10 mm %s; handle axis within "
                  "3 deg %s; effector sign right %d of %d salient; confident %d, of which tooltip within 15 mm %s\n",
                  all.cases, all.failed, all.cases - all.failed - all.left_handed, all.cases - all.failed,
                  toolinc::rate_text(all.within_10, all.cases).c_str(),
                  toolinc::rate_text(all.handle_within_3, all.cases).c_str(), all.sign_right, all.salient, all.confident,
                  toolinc::rate_text(all.confident_within_15, all.confident).c_str());
     if (!command.output().empty())
-      toolinc::write_json(command.output(), {{"type", "model_evaluation"}, {"version", 2}, {"grasps", grasps},
-                                             {"seed", seed}, {"noise_m", noise}, {"hand_radius_m", hand_radius},
-                                             {"models", per_model}, {"kinds", per_kind},
+      toolinc::write_json(command.output(), {{"type", "model_evaluation"},
+                                             {"version", 2},
+                                             {"grasps", grasps},
+                                             {"seed", seed},
+                                             {"noise_m", noise},
+                                             {"hand_radius_m", hand_radius},
+                                             {"models", per_model},
+                                             {"kinds", per_kind},
                                              {"all", tally_json("kind", "all", all)}});
   });
 }

@@ -15,8 +15,8 @@
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
-#include "toolinc/synth/pose_evaluation.hpp"
 #include "toolinc/synth/model_kinds.hpp"
+#include "toolinc/synth/pose_evaluation.hpp"
 
 using namespace toolinc;
 
@@ -37,37 +37,50 @@ struct Tally {
   }
   Json json(const std::string& key, const std::string& name) const {
     const auto [lo, hi] = wilson_interval(right, cases);
-    return {{key, name}, {"cases", cases}, {"right", right}, {"pose_right", pose_right},
-            {"tooltip_right", tooltip_right}, {"failed", failed}, {"rate", static_cast<double>(right) / cases},
-            {"rate_interval_95", {lo, hi}}, {"median_tooltip_m", median(tooltip)},
+    return {{key, name},
+            {"cases", cases},
+            {"right", right},
+            {"pose_right", pose_right},
+            {"tooltip_right", tooltip_right},
+            {"failed", failed},
+            {"rate", static_cast<double>(right) / cases},
+            {"rate_interval_95", {lo, hi}},
+            {"median_tooltip_m", median(tooltip)},
             {"median_translation_m", median(translation)}};
   }
 };
 
 void print_row(std::FILE* table, const std::string& name, const std::string& extra, const Tally& t) {
-  const auto max_of = [](const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); };
-  std::fprintf(table, "%-16s %-10s %5d %5d %5d %5d %9s %7.1f %7.1f %8.1f %8.1f\n", name.c_str(), extra.c_str(),
-               t.cases, t.right, t.pose_right, t.tooltip_right, t.interval().c_str(), median(t.rotation),
+  const auto max_of = [](const std::vector<double>& v) {
+    return v.empty() ? NAN : *std::max_element(v.begin(), v.end());
+  };
+  std::fprintf(table, "%-16s %-10s %5d %5d %5d %5d %9s %7.1f %7.1f %8.1f %8.1f\n", name.c_str(), extra.c_str(), t.cases,
+               t.right, t.pose_right, t.tooltip_right, t.interval().c_str(), median(t.rotation),
                1000 * median(t.translation), 1000 * median(t.tooltip), 1000 * max_of(t.tooltip));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  Command command("evaluate-poses", "align-pose accuracy on canonical models under random grasps, one partial view each",
+  Command command("evaluate-poses",
+                  "align-pose accuracy on canonical models under random grasps, one partial view each",
                   {"align-pose", "evaluate-poses"});
   std::vector<std::string> inputs;
   std::string kinds_file;
   PoseEvaluationConfig config;
   auto& cli = command.cli();
-  cli.add_option("models", inputs, "Canonical models (handle from the origin along -Y, effector +X), or folders of them")
+  cli.add_option("models", inputs,
+                 "Canonical models (handle from the origin along -Y, effector +X), or folders of them")
       ->required();
   cli.add_option("--kinds", kinds_file,
                  "JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters (hok -> hook, ...)");
-  cli.add_option("--grasps", config.grasps, "Random grasps per model")->capture_default_str()->check(CLI::PositiveNumber);
+  cli.add_option("--grasps", config.grasps, "Random grasps per model")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cli.add_option("--seed", config.seed, "Seed of the grasps, views and noise")->capture_default_str();
   cli.add_option("-j,--jobs", config.jobs, "Cases evaluated in parallel (the results do not depend on it)")
-      ->capture_default_str()->check(CLI::Range(1u, 64u));
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 64u));
   command.add_output("Per-case results JSON (- for stdout)", false);
   add_align_pose_options(cli, config.align);
   return command.run(argc, argv, [&] {
@@ -94,11 +107,19 @@ int main(int argc, char** argv) {
         if (r.model != static_cast<int>(m)) continue;
         tally.add(r), kinds[models[m].kind].add(r), all.add(r);
         if (!r.failure.empty()) spdlog::warn("{} grasp {}: {}", models[m].name, r.grasp, r.failure);
-        cases.push_back({{"model", models[m].name}, {"kind", models[m].kind}, {"grasp", r.grasp},
-                         {"right", r.right}, {"pose_right", r.pose_right}, {"tooltip_right", r.tooltip_right},
-                         {"rotation_deg", r.errors.rotation_deg}, {"translation_m", r.errors.translation_m},
-                         {"tooltip_m", r.errors.tooltip_m}, {"ambiguous", r.ambiguous}, {"feasible", r.feasible},
-                         {"view_points", r.view_points}, {"failure", r.failure}});
+        cases.push_back({{"model", models[m].name},
+                         {"kind", models[m].kind},
+                         {"grasp", r.grasp},
+                         {"right", r.right},
+                         {"pose_right", r.pose_right},
+                         {"tooltip_right", r.tooltip_right},
+                         {"rotation_deg", r.errors.rotation_deg},
+                         {"translation_m", r.errors.translation_m},
+                         {"tooltip_m", r.errors.tooltip_m},
+                         {"ambiguous", r.ambiguous},
+                         {"feasible", r.feasible},
+                         {"view_points", r.view_points},
+                         {"failure", r.failure}});
       }
       const std::string base = models[m].name.substr(models[m].name.find_last_of('/') + 1);
       print_row(table, base, to_string(models[m].symmetry), tally);
@@ -113,12 +134,18 @@ int main(int argc, char** argv) {
       per_kind.push_back(tally.json("kind", kind));
     }
     print_row(table, "all", "", all);
-    std::fprintf(table, "\nright: rotation <= %g deg and translation <= %g mm (pose), or tooltip <= %g mm (tip), "
-                 "modulo symmetry; %d failed\n", config.max_rotation_deg, 1000 * config.max_translation_m,
-                 1000 * config.max_tooltip_m, all.failed);
+    std::fprintf(table,
+                 "\nright: rotation <= %g deg and translation <= %g mm (pose), or tooltip <= %g mm (tip), "
+                 "modulo symmetry; %d failed\n",
+                 config.max_rotation_deg, 1000 * config.max_translation_m, 1000 * config.max_tooltip_m, all.failed);
     if (!command.output().empty())
-      write_json(command.output(), {{"type", "pose_evaluation"}, {"version", 1}, {"grasps", config.grasps},
-                                    {"seed", config.seed}, {"all", all.json("kind", "all")}, {"kinds", per_kind},
-                                    {"models", per_model}, {"cases", cases}});
+      write_json(command.output(), {{"type", "pose_evaluation"},
+                                    {"version", 1},
+                                    {"grasps", config.grasps},
+                                    {"seed", config.seed},
+                                    {"all", all.json("kind", "all")},
+                                    {"kinds", per_kind},
+                                    {"models", per_model},
+                                    {"cases", cases}});
   });
 }

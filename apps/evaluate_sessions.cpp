@@ -147,9 +147,13 @@ int main(int argc, char** argv) {
     const auto rate = [&](const std::string& name, int within, int sessions, int within_true_frame, int confident,
                           int confident_within_15) {
       const auto [lo, hi] = toolinc::wilson_interval(within, sessions);
-      summary.push_back({{"family", name}, {"sessions", sessions}, {"tooltip_within_tolerance", within},
-                         {"rate", static_cast<double>(within) / sessions}, {"rate_interval_95", {lo, hi}},
-                         {"tooltip_within_tolerance_true_frame", within_true_frame}, {"confident", confident},
+      summary.push_back({{"family", name},
+                         {"sessions", sessions},
+                         {"tooltip_within_tolerance", within},
+                         {"rate", static_cast<double>(within) / sessions},
+                         {"rate_interval_95", {lo, hi}},
+                         {"tooltip_within_tolerance_true_frame", within_true_frame},
+                         {"confident", confident},
                          {"confident_tooltip_within_15mm", toolinc::rate_json(name, confident_within_15, confident)}});
       return fmt::format("{:.1f}-{:.1f}%", 100 * lo, 100 * hi);
     };
@@ -161,15 +165,21 @@ int main(int argc, char** argv) {
         ++sessions;
         const auto& e = c.errors;
         const toolinc::Json tooltip_error = e.tool.failure.empty() ? toolinc::Json(e.tool.tooltip_m) : toolinc::Json();
-        results.push_back({{"family", group}, {"model", c.model < 0 ? toolinc::Json() : toolinc::Json(models[c.model].path)},
-                           {"seed", c.seed}, {"tooltip_error_m", tooltip_error},
-                           {"tooltip_error_true_frame_m", std::isfinite(e.tool.tooltip_true_frame_m) && e.tool.failure.empty()
-                                                              ? toolinc::Json(e.tool.tooltip_true_frame_m) : toolinc::Json()},
-                           {"handle_axis_error_deg", e.tool.handle_axis_deg},
-                           {"symmetry_plane_error_deg", e.tool.symmetry_plane_deg},
-                           {"effector_sign_right", e.tool.effector_sign_right}, {"confident", e.tool.confident},
-                           {"model_median_m", e.model_median_m},
-                           {"views_rejected", e.views_rejected}, {"failure", e.tool.failure}});
+        results.push_back(
+            {{"family", group},
+             {"model", c.model < 0 ? toolinc::Json() : toolinc::Json(models[c.model].path)},
+             {"seed", c.seed},
+             {"tooltip_error_m", tooltip_error},
+             {"tooltip_error_true_frame_m", std::isfinite(e.tool.tooltip_true_frame_m) && e.tool.failure.empty()
+                                                ? toolinc::Json(e.tool.tooltip_true_frame_m)
+                                                : toolinc::Json()},
+             {"handle_axis_error_deg", e.tool.handle_axis_deg},
+             {"symmetry_plane_error_deg", e.tool.symmetry_plane_deg},
+             {"effector_sign_right", e.tool.effector_sign_right},
+             {"confident", e.tool.confident},
+             {"model_median_m", e.model_median_m},
+             {"views_rejected", e.views_rejected},
+             {"failure", e.tool.failure}});
         if (!e.tool.failure.empty()) {
           ++failed;
           spdlog::warn("{} seed {}: {}", c.model < 0 ? group : models[c.model].path, c.seed, e.tool.failure);
@@ -203,9 +213,12 @@ int main(int argc, char** argv) {
     std::fprintf(table, "confident: %d of %d sessions, of which tooltip within 15 mm %s\n", total_confident, total,
                  toolinc::rate_text(total_confident_within_15, total_confident).c_str());
     if (!command.output().empty())
-      toolinc::write_json(command.output(), {{"type", "session_evaluation"}, {"version", 1},
-                                             {"first_seed", first_seed}, {"grasps", grasps},
-                                             {"tooltip_tolerance_m", tip_tolerance}, {"summary", summary},
+      toolinc::write_json(command.output(), {{"type", "session_evaluation"},
+                                             {"version", 1},
+                                             {"first_seed", first_seed},
+                                             {"grasps", grasps},
+                                             {"tooltip_tolerance_m", tip_tolerance},
+                                             {"summary", summary},
                                              {"sessions", results}});
   });
 }

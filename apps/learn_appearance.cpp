@@ -1,10 +1,11 @@
 // learn-appearance train|classify: learn tools' appearance from the crops of their exploration views and
 // recognise them later (paper sect. 2; original-method.md sect. 10).
+#include "toolinc/appearance/learn_appearance.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/appearance/crops.hpp"
-#include "toolinc/appearance/learn_appearance.hpp"
 
 namespace {
 
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
   toolinc::TrainingSources sources;
   std::string backbone;
   cli.add_option("--session", sources.sessions,
-                 "Session folder(s): train on every view's crop; classify one session's views")->expected(1, -1);
+                 "Session folder(s): train on every view's crop; classify one session's views")
+      ->expected(1, -1);
   cli.add_option("--backbone", backbone,
                  "ONNX network for dnn features (train); classify: the model file if not where the classifier says");
 
@@ -45,13 +47,14 @@ int main(int argc, char** argv) {
   toolinc::DnnFeatureConfig dnn;
   std::pair<int, int> input_size{dnn.input_width, dnn.input_height};
   const std::vector<CLI::Option*> dnn_only = {
-      cli.add_option("--input-size", input_size, "dnn: network input W H (default 224 224)")
+      cli.add_option("--input-size", input_size, "dnn: network input W H (default 224 224)")->capture_default_str(),
+      cli.add_option("--mean", dnn.mean, "dnn: per-channel mean r g b of pixel values in [0, 1]")
           ->capture_default_str(),
-      cli.add_option("--mean", dnn.mean, "dnn: per-channel mean r g b of pixel values in [0, 1]")->capture_default_str(),
       cli.add_option("--std", dnn.std, "dnn: per-channel std r g b of pixel values in [0, 1]")->capture_default_str(),
       cli.add_option("--channel-order", dnn.channel_order, "dnn: channel order of the network input (rgb|bgr)")
           ->capture_default_str(),
-      cli.add_option("--output-layer", dnn.output_layer, "dnn: layer whose output is the feature (default: the output)")};
+      cli.add_option("--output-layer", dnn.output_layer,
+                     "dnn: layer whose output is the feature (default: the output)")};
 
   std::string classifier_path, bbox;
   toolinc::ClassifyInput input;

@@ -1,4 +1,6 @@
 // merge-views VIEW.ply... -o MODEL.ply [--report REPORT.json]: one tool model from the exploration views.
+#include "toolinc/registration/merge_views.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include "toolinc/app/command.hpp"
@@ -7,7 +9,6 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/results_json.hpp"
-#include "toolinc/registration/merge_views.hpp"
 
 int main(int argc, char** argv) {
   toolinc::Command command("merge-views", "Merge hand-frame views of a tool into one model");
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
       throw;
     }
     for (std::size_t v = 0; v < merged.views.size(); ++v)
-      spdlog::info("{}: {} ({})", inputs[v], merged.views[v].accepted ? "accepted" : "REJECTED", merged.views[v].reason);
+      spdlog::info("{}: {} ({})", inputs[v], merged.views[v].accepted ? "accepted" : "REJECTED",
+                   merged.views[v].reason);
     toolinc::write_ply(command.output(), merged.model, {ascii, command.command_line()});
     if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, merged, ""));
     spdlog::info("{} points -> {}", merged.model.size(), command.output());

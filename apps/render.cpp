@@ -2,6 +2,8 @@
 // a headless picture of clouds in the hand frame with the tool frame, the tooltip and a known tool's
 // model where align-pose says it is held; render --session SESSION -o SHEET.png: a contact sheet of a
 // recorded session's views (issue 7).
+#include "toolinc/render/render.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
@@ -13,11 +15,11 @@
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/results_json.hpp"
 #include "toolinc/render/contact_sheet.hpp"
-#include "toolinc/render/render.hpp"
 
 int main(int argc, char** argv) {
-  toolinc::Command command("render", "Draw clouds (hand frame), the tool frame and the tooltip, or a session's "
-                                     "views, to a PNG");
+  toolinc::Command command("render",
+                           "Draw clouds (hand frame), the tool frame and the tooltip, or a session's "
+                           "views, to a PNG");
   std::vector<std::string> inputs;
   std::string frame_path, tooltip_path, pose_path, model_path, session_dir;
   toolinc::RenderOptions options;
@@ -34,7 +36,8 @@ int main(int argc, char** argv) {
   for (auto* option : {clouds, frame, tooltip, pose, model}) session->excludes(option);
   cli.add_option("--width", options.width, "Image width, pixels")->capture_default_str();
   cli.add_option("--height", options.height, "Image height, pixels")->capture_default_str();
-  cli.add_option("--axis-length", options.axis_length, "Drawn length of the tool frame's axes, m")->capture_default_str();
+  cli.add_option("--axis-length", options.axis_length, "Drawn length of the tool frame's axes, m")
+      ->capture_default_str();
   cli.add_option("--panel-width", sheet.panel_width, "With --session: width of each image on the sheet, pixels")
       ->capture_default_str();
   command.add_output("Output PNG");

@@ -49,8 +49,8 @@ int main(int argc, char** argv) {
   double kinematic_mm = config.kinematic_error_m * 1000.0;
   bool no_points = false, no_blob = false;
   auto& cli = command.cli();
-  auto* family_option =
-      cli.add_option("--family", family, "stick, hoe, hook, rake, shovel, l-stick, t-bar, flat-top")->capture_default_str();
+  auto* family_option = cli.add_option("--family", family, "stick, hoe, hook, rake, shovel, l-stick, t-bar, flat-top")
+                            ->capture_default_str();
   cli.add_option("--model", model_file, "A tool model in the canonical pose (PLY or PCD) instead of a family")
       ->check(CLI::ExistingFile)
       ->excludes(family_option);
@@ -65,7 +65,9 @@ int main(int argc, char** argv) {
                  "the seed, the effector facing anywhere about the handle) or canonical (identity)")
       ->check(CLI::IsMember({"recorded", "any", "canonical"}))
       ->capture_default_str();
-  cli.add_option("--hand", config.hand, "left or right")->check(CLI::IsMember({"left", "right"}))->capture_default_str();
+  cli.add_option("--hand", config.hand, "left or right")
+      ->check(CLI::IsMember({"left", "right"}))
+      ->capture_default_str();
   cli.add_option("--label", label, "The tool's label recorded in session.json");
   cli.add_option("--color", colour,
                  "The tool's colour R,G,B (0-255); default: drawn by the seed from a palette all families share");
@@ -86,7 +88,8 @@ int main(int argc, char** argv) {
                  "disparity plus Gaussian noise")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
-  cli.add_option("--disparity-noise", config.disparity_noise_px, "ideal: sigma of the disparity (px)")->capture_default_str();
+  cli.add_option("--disparity-noise", config.disparity_noise_px, "ideal: sigma of the disparity (px)")
+      ->capture_default_str();
   cli.add_option("--pixel-noise", config.pixel_noise, "Sigma of the sensor noise per colour channel (grey levels)")
       ->capture_default_str();
   cli.add_flag("--renderer-blob", config.renderer_blob,

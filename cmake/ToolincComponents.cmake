@@ -4,11 +4,6 @@
 
 set(TOOLINC_COMPONENTS "" CACHE INTERNAL "")
 set(TOOLINC_COMPONENT_FOLDERS app yarp CACHE INTERNAL "")  # the apps' glue and the YARP adapter: not components
-# Sources that are in lib/ but only the tests and benchmarks use (tests/support builds them).
-set(TOOLINC_TEST_ONLY_SOURCES
-    ${PROJECT_SOURCE_DIR}/lib/appearance/onnx_writer.cpp
-    CACHE INTERNAL "")
-set(TOOLINC_TEST_ONLY_HEADERS appearance/onnx_writer.hpp CACHE INTERNAL "")
 
 # toolinc_component(NAME FOLDERS dir... [EXTRA file...] [EXCLUDE file...] [PUBLIC dep...] [PRIVATE dep...])
 function(toolinc_component name)
@@ -21,7 +16,7 @@ function(toolinc_component name)
   foreach(file ${ARG_EXTRA})
     list(APPEND sources ${PROJECT_SOURCE_DIR}/lib/${file})
   endforeach()
-  foreach(file ${ARG_EXCLUDE} ${TOOLINC_TEST_ONLY_SOURCES})
+  foreach(file ${ARG_EXCLUDE})
     get_filename_component(file ${file} ABSOLUTE BASE_DIR ${PROJECT_SOURCE_DIR}/lib)
     list(REMOVE_ITEM sources ${file})
   endforeach()
@@ -31,6 +26,7 @@ function(toolinc_component name)
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME toolinc_${name})
   target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
                                               $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/lib)  # the internals' headers
   target_compile_definitions(${target} PRIVATE TOOLINC_VERSION="${PROJECT_VERSION}")
   target_compile_options(${target} PRIVATE -Wall -Wextra)
   target_link_libraries(${target} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})

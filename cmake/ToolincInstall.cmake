@@ -16,13 +16,9 @@ install(TARGETS ${TOOLINC_EXPORTED_TARGETS} toolinc EXPORT toolincTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS ${TOOLINC_APP_TARGETS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
-# Headers, but the command-line glue's and the test-only code's.
-set(header_excludes PATTERN app EXCLUDE)
-foreach(header ${TOOLINC_TEST_ONLY_HEADERS})
-  list(APPEND header_excludes PATTERN ${header} EXCLUDE)
-endforeach()
+# Headers, but the command-line glue's.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/toolinc DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-        FILES_MATCHING PATTERN "*.hpp" ${header_excludes})
+        FILES_MATCHING PATTERN "*.hpp" PATTERN app EXCLUDE)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/configs/ DESTINATION ${CMAKE_INSTALL_DATADIR}/toolinc/configs)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
 

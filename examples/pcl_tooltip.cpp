@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
     const toolinc::ToolFrame direct_frame = toolinc::estimate_tool_frame(original.points, {}, original.viewpoints);
     const toolinc::Tooltip direct = toolinc::find_tooltip(original.points, direct_frame);
     const double difference = (direct.position - tip.position).norm();
-    std::printf("toolinc's own cloud: tooltip %.6f %.6f %.6f (%.1e m apart)\n", direct.position.x(), direct.position.y(),
-                direct.position.z(), difference);
+    std::printf("toolinc's own cloud: tooltip %.6f %.6f %.6f (%.1e m apart)\n", direct.position.x(),
+                direct.position.y(), direct.position.z(), difference);
     const bool same_origin = back.viewpoints.size() == 1 && (back.viewpoints[0] - original.viewpoints[0]).norm() < 1e-7;
     return difference < 1e-5 && same_origin && back.size() == original.size() ? 0 : 1;
   } catch (const std::exception& e) {

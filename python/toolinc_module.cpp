@@ -1,8 +1,8 @@
 // The `toolinc` Python module: the executables' steps on numpy arrays. Each function takes the same
 // option names as the executable's long options (`hand_radius=0.05`, `config={"hand-radius": 0.05}` or
-// a config file `config="configs/icub.json"`), checked by the executable's own option definitions, and returns the JSON the executable writes, as a
-// dict whose numeric arrays are numpy arrays. Errors are toolinc.InputError (the executable's exit 2) or
-// toolinc.MethodError (exit 3), carrying the executable's message.
+// a config file `config="configs/icub.json"`), checked by the executable's own option definitions, and returns the JSON
+// the executable writes, as a dict whose numeric arrays are numpy arrays. Errors are toolinc.InputError (the
+// executable's exit 2) or toolinc.MethodError (exit 3), carrying the executable's message.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -110,8 +110,9 @@ py::object to_python(const Json& j) {
     return dict;
   }
   if (numeric_array(j)) return py::array(py::cast(j.get<std::vector<double>>()));
-  const bool matrix = !j.empty() && numeric_array(j[0]) &&
-                      std::all_of(j.begin(), j.end(), [&](const Json& row) { return numeric_array(row) && row.size() == j[0].size(); });
+  const bool matrix = !j.empty() && numeric_array(j[0]) && std::all_of(j.begin(), j.end(), [&](const Json& row) {
+    return numeric_array(row) && row.size() == j[0].size();
+  });
   if (matrix) return py::array(py::cast(j.get<std::vector<std::vector<double>>>()));
   py::list list;
   for (const auto& e : j) list.append(to_python(e));
@@ -129,8 +130,8 @@ void parse_options(Command& command, const py::object& config, const py::kwargs&
   const auto add = [&](const py::handle& key, const py::handle& value) {
     std::string name = py::str(key).cast<std::string>();
     std::replace(name.begin(), name.end(), '_', '-');
-    options["--" + name] = py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false")
-                                                             : py::str(value).cast<std::string>();
+    options["--" + name] =
+        py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "true" : "false") : py::str(value).cast<std::string>();
   };
   if (py::isinstance<py::dict>(config))
     for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(config)) add(key, value);

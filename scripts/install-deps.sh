@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev liblzf-dev
   snakemake
   pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
-  clang-14 libclang-rt-14-dev llvm-14
+  clang-14 libclang-rt-14-dev llvm-14 clang-format-14
 )
 
 missing=()

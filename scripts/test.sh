@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The README's test command (CI runs it through .ci/run). Installs the dependencies, then, each part
-# timed:
-#   1. the Release build and every test (CTest);
+# The README's test command (CI runs it through .ci/run). Installs the dependencies, checks the
+# formatting (scripts/format.sh --check), then, each part timed:
+#   1. the Release build, warnings as errors, and every test (CTest);
 #   2. a second build with AddressSanitizer + UndefinedBehaviorSanitizer (Clang 14, no recovery, the
 #      library instrumented for libFuzzer too) and the whole suite again there, but for the slowest
 #      accuracy loops, which exercise no code the rest of the suite does not and already ran in 1
@@ -20,8 +20,10 @@ timed() {
   echo "test.sh: $name took $(( $(date +%s) - start )) s"
 }
 
+scripts/format.sh --check
+
 build=${BUILD_DIR:-build}
-timed "release build" scripts/build.sh
+timed "release build" env CMAKE_ARGS="-DTOOLINC_WARNINGS_AS_ERRORS=ON" scripts/build.sh
 timed "release tests" ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
 
 if [ "${SANITIZE:-1}" != 0 ]; then
@@ -31,7 +33,7 @@ if [ "${SANITIZE:-1}" != 0 ]; then
   SLOW_ACCURACY="$SLOW_ACCURACY|^package_install_and_examples$"
   configure_sanitized() {
     cmake -S . -B "$sanitize" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14 \
-      -DTOOLINC_SANITIZE=ON -DTOOLINC_BUILD_FUZZERS=ON -DTOOLINC_BUILD_BENCHMARKS=OFF -DTOOLINC_BUILD_PYTHON=OFF >/dev/null
+      -DTOOLINC_SANITIZE=ON -DTOOLINC_BUILD_FUZZERS=ON -DTOOLINC_WARNINGS_AS_ERRORS=ON -DTOOLINC_BUILD_BENCHMARKS=OFF -DTOOLINC_BUILD_PYTHON=OFF >/dev/null
     cmake --build "$sanitize" -j "$(nproc)" --target toolinc_tests fuzzers
   }
   timed "sanitizer build" configure_sanitized

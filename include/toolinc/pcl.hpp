@@ -58,8 +58,9 @@ pcl::PointCloud<PointT> to_pcl(const PointCloud& in, std::size_t* dropped_viewpo
   }
   out.is_dense = true;
   if (!in.viewpoints.empty())
-    out.sensor_origin_ = Eigen::Vector4f(static_cast<float>(in.viewpoints[0].x()), static_cast<float>(in.viewpoints[0].y()),
-                                         static_cast<float>(in.viewpoints[0].z()), 0.0f);
+    out.sensor_origin_ =
+        Eigen::Vector4f(static_cast<float>(in.viewpoints[0].x()), static_cast<float>(in.viewpoints[0].y()),
+                        static_cast<float>(in.viewpoints[0].z()), 0.0f);
   if (dropped_viewpoints) *dropped_viewpoints = in.viewpoints.empty() ? 0 : in.viewpoints.size() - 1;
   return out;
 }

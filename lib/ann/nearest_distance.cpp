@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "toolinc/ann/kdtree.hpp"

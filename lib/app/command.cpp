@@ -212,10 +212,11 @@ int Command::run(int argc, char** argv, const std::function<void()>& body) {
   // A spelling config_argument does not know would leave the file unread: say so rather than ignore it.
   const CLI::Option* config = cli_.get_config_ptr();
   if (config->count() > 0 && config->as<std::string>() != config_file_) {
-    spdlog::error("{}: give a config file as -c FILE, -cFILE, --config FILE or --config=FILE", config->as<std::string>());
+    spdlog::error("{}: give a config file as -c FILE, -cFILE, --config FILE or --config=FILE",
+                  config->as<std::string>());
     return 2;
   }
-  spdlog::set_level(quiet_ ? spdlog::level::err
+  spdlog::set_level(quiet_            ? spdlog::level::err
                     : verbosity_ >= 2 ? spdlog::level::trace
                     : verbosity_ == 1 ? spdlog::level::debug
                                       : spdlog::level::info);

@@ -82,9 +82,9 @@ Eigen::VectorXd two_scale_hog(const cv::Mat& window, const BuiltinFeatureConfig&
 // larger b.
 struct BlobFrame {
   cv::Point2d centroid;
-  double angle = 0;               // of the major axis, from the image's x
+  double angle = 0;  // of the major axis, from the image's x
   double sign_a = 1, sign_b = 1;
-  std::vector<cv::Point2d> ab;    // every pixel's signed (a, b), about the centroid
+  std::vector<cv::Point2d> ab;  // every pixel's signed (a, b), about the centroid
 };
 
 BlobFrame blob_frame(const cv::Mat& mask) {
@@ -112,7 +112,8 @@ struct Region {
 // length, centred across on the pixels of that band. The band's third moment across sets sign_b.
 std::pair<Region, Region> regions(BlobFrame& f, double head_share) {
   double a_lo = 0, a_hi = 0, extent = 1;
-  for (const auto& p : f.ab) a_lo = std::min(a_lo, p.x), a_hi = std::max(a_hi, p.x), extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+  for (const auto& p : f.ab)
+    a_lo = std::min(a_lo, p.x), a_hi = std::max(a_hi, p.x), extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
   const double half = std::max(1.0, head_share * (a_hi - a_lo) / 2);
   double sum = 0, count = 0;
   for (const auto& p : f.ab)
@@ -147,7 +148,8 @@ Eigen::VectorXd silhouette(const cv::Mat& mask, const BlobFrame& f, const Builti
   Eigen::VectorXd block = Eigen::VectorXd::Zero(c.radial_bins + 7);
   double farthest = kEpsilon;
   for (const auto& p : f.ab) farthest = std::max(farthest, std::hypot(p.x, p.y) + kEpsilon);
-  for (const auto& p : f.ab) block[std::min(c.radial_bins - 1, static_cast<int>(std::hypot(p.x, p.y) / farthest * c.radial_bins))] += 1;
+  for (const auto& p : f.ab)
+    block[std::min(c.radial_bins - 1, static_cast<int>(std::hypot(p.x, p.y) / farthest * c.radial_bins))] += 1;
   block.head(c.radial_bins) = (block.head(c.radial_bins) / static_cast<double>(f.ab.size())).cwiseSqrt();
   double hu[7];
   cv::HuMoments(cv::moments(mask, true), hu);
@@ -184,15 +186,17 @@ int positive_int(const Json& json, const std::string& key, const std::string& fi
 void check(const BuiltinFeatureConfig& c) {
   const DepthShapeConfig& d = c.depth;
   if (c.cell <= 0 || c.block <= 0 || c.orientation_bins <= 0 || c.radial_bins <= 0 || c.hue_bins <= 0 ||
-      c.saturation_bins <= 0 || c.size % c.cell != 0 || c.coarse_size % c.cell != 0 || c.coarse_size / c.cell < c.block ||
-      c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1) || d.head_bins <= 0 || d.radial_bins <= 0 ||
-      d.footprint_bins <= 0 || d.footprint_depth_bins <= 0 || !(d.unit > 0) || !(d.across_step > 0) ||
-      !(d.head_length > 0) || !(d.hand_margin >= 0) || !(d.handle_trim > 0) || !(d.grasp_reach > 0) || !(d.handle_near >= 0 && d.handle_far > d.handle_near) ||
+      c.saturation_bins <= 0 || c.size % c.cell != 0 || c.coarse_size % c.cell != 0 ||
+      c.coarse_size / c.cell < c.block || c.coarse_size > c.size || !(c.head_share > 0 && c.head_share <= 1) ||
+      d.head_bins <= 0 || d.radial_bins <= 0 || d.footprint_bins <= 0 || d.footprint_depth_bins <= 0 || !(d.unit > 0) ||
+      !(d.across_step > 0) || !(d.head_length > 0) || !(d.hand_margin >= 0) || !(d.handle_trim > 0) ||
+      !(d.grasp_reach > 0) || !(d.handle_near >= 0 && d.handle_far > d.handle_near) ||
       !(d.hand_min.array() < d.hand_max.array()).all())
-    throw std::invalid_argument(fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px "
-                                            "cells, or the head share {} is not in (0, 1] (or the depth block's parameters "
-                                            "are not positive, its handle band or hand box empty)",
-                                            c.size, c.coarse_size, c.block, c.cell, c.head_share));
+    throw std::invalid_argument(
+        fmt::format("builtin features: {} and {} px windows do not hold {}-cell blocks of {} px "
+                    "cells, or the head share {} is not in (0, 1] (or the depth block's parameters "
+                    "are not positive, its handle band or hand box empty)",
+                    c.size, c.coarse_size, c.block, c.cell, c.head_share));
 }
 
 std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
@@ -200,8 +204,12 @@ std::vector<FeatureBlock> builtin_blocks(const BuiltinFeatureConfig& c) {
   std::vector<FeatureBlock> blocks;
   Eigen::Index at = 0;
   for (const auto& [name, size] : std::vector<std::pair<std::string, Eigen::Index>>{
-           {"mask_hog", hog}, {"head_mask_hog", hog}, {"grey_hog", hog}, {"head_grey_hog", hog},
-           {"silhouette", c.radial_bins + 7}, {"depth", depth_shape_dimension(c.depth)},
+           {"mask_hog", hog},
+           {"head_mask_hog", hog},
+           {"grey_hog", hog},
+           {"head_grey_hog", hog},
+           {"silhouette", c.radial_bins + 7},
+           {"depth", depth_shape_dimension(c.depth)},
            {"colour", static_cast<Eigen::Index>(c.hue_bins) * c.saturation_bins}})
     blocks.push_back({name, at, size}), at += size;
   return blocks;
@@ -272,8 +280,11 @@ Json to_json(const BuiltinFeatureConfig& c) {
             {"footprint_bins", c.depth.footprint_bins},
             {"footprint_depth_bins", c.depth.footprint_depth_bins},
             {"unit_m", c.depth.unit},
-            {"of", "blob pixels with a disparity, in the hand frame, the hand's dropped; about the handle's axis; weight sqrt(5)"}}},
-          {"colour", {{"space", "HSV"}, {"hue_bins", c.hue_bins}, {"saturation_bins", c.saturation_bins}, {"of", "blob pixels"}}},
+            {"of",
+             "blob pixels with a disparity, in the hand frame, the hand's dropped; about the handle's axis; weight "
+             "sqrt(5)"}}},
+          {"colour",
+           {{"space", "HSV"}, {"hue_bins", c.hue_bins}, {"saturation_bins", c.saturation_bins}, {"of", "blob pixels"}}},
           {"normalisation", "each block L2 (depth times sqrt(5)), all divided by sqrt(11)"},
           {"dimension", builtin_dimension(c)}};
 }
@@ -282,9 +293,10 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
   if (!json.is_object()) throw InputError(file, "extractor: expected an object");
   const Json version = json.value("descriptor_version", Json(1));
   if (!version.is_number_integer() || version.get<long long>() != kBuiltinDescriptorVersion)
-    throw InputError(file, fmt::format("extractor: a builtin descriptor of version {} (this toolinc computes version {}, "
-                                       "which sees shape): retrain the classifier with learn-appearance train",
-                                       version.dump(), kBuiltinDescriptorVersion));
+    throw InputError(file,
+                     fmt::format("extractor: a builtin descriptor of version {} (this toolinc computes version {}, "
+                                 "which sees shape): retrain the classifier with learn-appearance train",
+                                 version.dump(), kBuiltinDescriptorVersion));
   if (!json.contains("window") || !json.contains("hog") || !json.contains("silhouette") || !json.contains("depth") ||
       !json.contains("colour"))
     throw InputError(file, "extractor: missing \"window\", \"hog\", \"silhouette\", \"depth\" or \"colour\"");
@@ -305,17 +317,19 @@ BuiltinFeatureConfig builtin_config_from_json(const Json& json, const std::strin
                                    {"footprint_depth_bins", &c.depth.footprint_depth_bins}})
     *value = positive_int(depth, key, file);
   for (const auto& [key, value] : {std::pair<const char*, double*>{"hand_margin_m", &c.depth.hand_margin},
-                                   {"handle_near_m", &c.depth.handle_near}, {"handle_far_m", &c.depth.handle_far},
+                                   {"handle_near_m", &c.depth.handle_near},
+                                   {"handle_far_m", &c.depth.handle_far},
                                    {"handle_trim_m", &c.depth.handle_trim},
                                    {"grasp_reach_m", &c.depth.grasp_reach},
-                                   {"head_length_m", &c.depth.head_length}, {"across_step_m", &c.depth.across_step},
+                                   {"head_length_m", &c.depth.head_length},
+                                   {"across_step_m", &c.depth.across_step},
                                    {"unit_m", &c.depth.unit}}) {
     const Json& number = depth.value(key, Json());
     if (!number.is_number()) throw InputError(file, fmt::format("extractor: depth \"{}\" must be a number", key));
     *value = number.get<double>();
   }
-  for (const auto& [key, value] : {std::pair<const char*, Eigen::Vector3d*>{"hand_min_m", &c.depth.hand_min},
-                                   {"hand_max_m", &c.depth.hand_max}}) {
+  for (const auto& [key, value] :
+       {std::pair<const char*, Eigen::Vector3d*>{"hand_min_m", &c.depth.hand_min}, {"hand_max_m", &c.depth.hand_max}}) {
     const Json& corner = depth.value(key, Json());
     const auto number = [](const Json& v) { return v.is_number(); };
     if (!corner.is_array() || corner.size() != 3 || !std::all_of(corner.begin(), corner.end(), number))

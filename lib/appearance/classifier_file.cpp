@@ -30,24 +30,27 @@ Json classifier_json(const AppearanceClassifier& classifier, const Json& trainin
   Json weights = Json::array();
   for (Eigen::Index c = 0; c < m.weights.cols(); ++c)
     weights.push_back(std::vector<double>(m.weights.col(c).data(), m.weights.col(c).data() + m.weights.rows()));
-  Json json = {{"type", "classifier"},
-              {"version", kClassifierVersion},
-              {"method", "one-vs-all regularised least squares (targets +1/-1, unregularised bias)"},
-              {"labels", m.labels},
-              {"extractor", classifier.extractor.to_json()},
-              {"lambda", m.lambda},
-              {"lambda_selection", {{"method", "leave-one-out"}, {"error", m.loo_error}, {"accuracy", m.loo_accuracy}}},
-              {"decision", [&] {
-                 Json decision = classifier.decision_summary;
-                 decision["min_score"] = classifier.decision.min_score;
-                 decision["min_margin"] = classifier.decision.min_margin;
-                 if (std::isfinite(classifier.decision.max_distance)) decision["max_distance"] = classifier.decision.max_distance;
-                 if (std::isfinite(classifier.decision.sure_score)) decision["sure_score"] = classifier.decision.sure_score;
-                 return decision;
-               }()},
-              {"training", training},
-              {"bias", std::vector<double>(m.bias.data(), m.bias.data() + m.bias.size())},
-              {"weights", weights}};
+  Json json = {
+      {"type", "classifier"},
+      {"version", kClassifierVersion},
+      {"method", "one-vs-all regularised least squares (targets +1/-1, unregularised bias)"},
+      {"labels", m.labels},
+      {"extractor", classifier.extractor.to_json()},
+      {"lambda", m.lambda},
+      {"lambda_selection", {{"method", "leave-one-out"}, {"error", m.loo_error}, {"accuracy", m.loo_accuracy}}},
+      {"decision",
+       [&] {
+         Json decision = classifier.decision_summary;
+         decision["min_score"] = classifier.decision.min_score;
+         decision["min_margin"] = classifier.decision.min_margin;
+         if (std::isfinite(classifier.decision.max_distance))
+           decision["max_distance"] = classifier.decision.max_distance;
+         if (std::isfinite(classifier.decision.sure_score)) decision["sure_score"] = classifier.decision.sure_score;
+         return decision;
+       }()},
+      {"training", training},
+      {"bias", std::vector<double>(m.bias.data(), m.bias.data() + m.bias.size())},
+      {"weights", weights}};
   if (classifier.known) json["known_sessions"] = to_json(*classifier.known);
   return json;
 }
@@ -81,7 +84,8 @@ AppearanceClassifier read_classifier(const std::string& path, const std::string&
   Json summary = {{"min_score_from", "default"}, {"min_margin_from", "default"}};
   if (json.contains("decision")) {
     summary = json["decision"];
-    const std::pair<const char*, double*> fields[] = {{"min_score", &decision.min_score}, {"min_margin", &decision.min_margin}};
+    const std::pair<const char*, double*> fields[] = {{"min_score", &decision.min_score},
+                                                      {"min_margin", &decision.min_margin}};
     for (const auto& [key, value] : fields) {
       if (!summary.contains(key) || !summary[key].is_number() || !std::isfinite(summary[key].get<double>()))
         throw InputError(path, fmt::format("decision: \"{}\" must be a finite number", key));
@@ -90,7 +94,8 @@ AppearanceClassifier read_classifier(const std::string& path, const std::string&
     if (summary.contains("max_distance")) {
       if (!summary["max_distance"].is_number() || !(summary["max_distance"].get<double>() >= 0))
         throw InputError(path, "decision: \"max_distance\" must be a number >= 0");
-      if (!json.contains("known_sessions")) throw InputError(path, "decision: \"max_distance\" without \"known_sessions\"");
+      if (!json.contains("known_sessions"))
+        throw InputError(path, "decision: \"max_distance\" without \"known_sessions\"");
       decision.max_distance = summary["max_distance"].get<double>();
     }
     if (summary.contains("sure_score")) {

@@ -57,7 +57,8 @@ std::optional<cv::Rect> view_crop_box(const ViewData& data, const ViewRecord& re
   if (!data.blob.empty() && cv::countNonZero(data.blob) > 0) return crop_around(cv::boundingRect(data.blob), size);
   if (!record.blob) return std::nullopt;
   const auto& roi = record.blob->roi;
-  const cv::Rect box = cv::Rect(cv::Point(roi[0], roi[1]), cv::Point(roi[2] + 1, roi[3] + 1)) & cv::Rect(cv::Point(0, 0), size);
+  const cv::Rect box =
+      cv::Rect(cv::Point(roi[0], roi[1]), cv::Point(roi[2] + 1, roi[3] + 1)) & cv::Rect(cv::Point(0, 0), size);
   if (box.area() == 0) return std::nullopt;
   return box;
 }

@@ -72,7 +72,9 @@ std::vector<Eigen::Vector3d> tool_points(const std::vector<Eigen::Vector3d>& poi
   return tool;
 }
 
-int bin(double value, double step, int bins) { return std::clamp(static_cast<int>(std::floor(value / step)), 0, bins - 1); }
+int bin(double value, double step, int bins) {
+  return std::clamp(static_cast<int>(std::floor(value / step)), 0, bins - 1);
+}
 
 }  // namespace
 
@@ -102,7 +104,8 @@ Eigen::VectorXd depth_shape(const std::vector<Eigen::Vector3d>& points, const De
   }
   const auto n = static_cast<double>(along.size());  // not empty: the far end is in the head
   const Scatter<2> spread = scatter_of<2>(across.size(), [&](std::size_t i) { return across[i]; });
-  const Scatter<1> length = scatter_of<1>(along.size(), [&](std::size_t i) { return Eigen::Matrix<double, 1, 1>(along[i]); });
+  const Scatter<1> length =
+      scatter_of<1>(along.size(), [&](std::size_t i) { return Eigen::Matrix<double, 1, 1>(along[i]); });
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> head(spread.scatter / n);
   Eigen::Vector2d main = head.eigenvectors().col(1);
   const Eigen::Vector2d second = head.eigenvectors().col(0);

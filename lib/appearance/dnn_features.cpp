@@ -24,7 +24,8 @@ std::array<double, 3> triple(const Json& json, const std::string& key, const std
 
 void check(const DnnFeatureConfig& c) {
   if (c.input_width <= 0 || c.input_height <= 0)
-    throw std::invalid_argument(fmt::format("--input-size: must be positive, not {} {}", c.input_width, c.input_height));
+    throw std::invalid_argument(
+        fmt::format("--input-size: must be positive, not {} {}", c.input_width, c.input_height));
   for (const double s : c.std)
     if (!(s > 0)) throw std::invalid_argument("--std: every value must be positive");
   if (c.channel_order != "rgb" && c.channel_order != "bgr")
@@ -38,8 +39,9 @@ DnnFeatureExtractor::DnnFeatureExtractor(DnnFeatureConfig config, const std::str
   if (!std::filesystem::is_regular_file(model)) throw InputError(model, "no such model file");
   sha256_ = sha256_file(model);
   if (!expected_sha256.empty() && sha256_ != expected_sha256)
-    throw InputError(model, fmt::format("SHA-256 {} differs from the classifier's {}: not the model it was trained with",
-                                        sha256_, expected_sha256));
+    throw InputError(
+        model, fmt::format("SHA-256 {} differs from the classifier's {}: not the model it was trained with", sha256_,
+                           expected_sha256));
   try {
     net_ = cv::dnn::readNetFromONNX(model);
   } catch (const cv::Exception& e) {
@@ -58,7 +60,8 @@ DnnFeatureExtractor::DnnFeatureExtractor(DnnFeatureConfig config, const std::str
   try {  // one grey crop: the feature size, and any shape mismatch, show now rather than per crop
     dimension_ = extract(cv::Mat(config_.input_height, config_.input_width, CV_8UC3, cv::Scalar::all(128))).size();
   } catch (const cv::Exception& e) {
-    throw InputError(model, fmt::format("cannot run on a {}x{} input: {}", config_.input_width, config_.input_height, e.err));
+    throw InputError(model,
+                     fmt::format("cannot run on a {}x{} input: {}", config_.input_width, config_.input_height, e.err));
   }
   spdlog::debug("{}: {} features from {}", model, dimension_,
                 config_.output_layer.empty() ? std::string("the output") : config_.output_layer);

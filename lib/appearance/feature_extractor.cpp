@@ -43,7 +43,8 @@ FeatureExtractor FeatureExtractor::from_json(const Json& json, const std::string
   } else if (name == "dnn") {
     DnnFeatureConfig config = dnn_config_from_json(json, file);
     if (!model.empty()) config.model = model;
-    if (!json.contains("model_sha256") || !json["model_sha256"].is_string() || json["model_sha256"].get<std::string>().empty())
+    if (!json.contains("model_sha256") || !json["model_sha256"].is_string() ||
+        json["model_sha256"].get<std::string>().empty())
       throw InputError(file, "extractor: missing \"model_sha256\"");
     e = dnn(config, json["model_sha256"].get<std::string>());
   } else if (name == "external") {

@@ -19,7 +19,8 @@ namespace {
 // sessions.
 Eigen::RowVectorXd spread_scale(const KnownSessions& known) {
   std::map<std::size_t, std::vector<Eigen::Index>> per_label;
-  for (Eigen::Index s = 0; s < known.means.rows(); ++s) per_label[known.labels[static_cast<std::size_t>(s)]].push_back(s);
+  for (Eigen::Index s = 0; s < known.means.rows(); ++s)
+    per_label[known.labels[static_cast<std::size_t>(s)]].push_back(s);
   Eigen::RowVectorXd squares = Eigen::RowVectorXd::Zero(known.size);
   Eigen::Index dof = 0;
   for (const auto& [label, sessions] : per_label) {
@@ -47,7 +48,8 @@ KnownSessions known_sessions(const Eigen::MatrixXd& x, const std::vector<std::si
   known.start = start, known.size = size;
   known.means.resize(static_cast<Eigen::Index>(rows.size()), size);
   for (const auto& [group, members] : rows) {
-    known.means.row(static_cast<Eigen::Index>(known.labels.size())) = x(members, Eigen::seqN(start, size)).colwise().mean();
+    known.means.row(static_cast<Eigen::Index>(known.labels.size())) =
+        x(members, Eigen::seqN(start, size)).colwise().mean();
     known.labels.push_back(targets[static_cast<std::size_t>(members.front())]);
   }
   known.scale = spread_scale(known);
@@ -70,7 +72,8 @@ double distance_to_label(const KnownSessions& known, const Eigen::MatrixXd& rows
   const Eigen::RowVectorXd mean = rows.middleCols(known.start, known.size).colwise().mean();
   double nearest = std::numeric_limits<double>::infinity();
   for (Eigen::Index s = 0; s < known.means.rows(); ++s)
-    if (known.labels[static_cast<std::size_t>(s)] == label) nearest = std::min(nearest, scaled_distance(known, known.means.row(s), mean));
+    if (known.labels[static_cast<std::size_t>(s)] == label)
+      nearest = std::min(nearest, scaled_distance(known, known.means.row(s), mean));
   return nearest;
 }
 
@@ -95,7 +98,8 @@ KnownSessions known_sessions_from_json(const Json& json, std::size_t labels, Eig
       !json.value("sessions", Json()).is_array())
     throw fail("expected \"start\", \"size\", \"scale\" and \"sessions\"");
   const auto start = json["start"].get<std::uint64_t>(), size = json["size"].get<std::uint64_t>();
-  if (size == 0 || start > static_cast<std::uint64_t>(dimension) || size > static_cast<std::uint64_t>(dimension) - start)
+  if (size == 0 || start > static_cast<std::uint64_t>(dimension) ||
+      size > static_cast<std::uint64_t>(dimension) - start)
     throw fail("the columns are not inside the features");
   KnownSessions known;
   known.start = static_cast<Eigen::Index>(start), known.size = static_cast<Eigen::Index>(size);

@@ -3,9 +3,9 @@
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
-#include <filesystem>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -23,8 +23,8 @@ namespace fs = std::filesystem;
 
 void check_label(const std::string& label, const std::string& file) {
   if (label.empty() || label == kUnknownLabel || label.find_first_of(" \t\n/") != std::string::npos)
-    throw InputError(file, fmt::format("label \"{}\" is not usable (empty, \"{}\", or with spaces or /)", label,
-                                       kUnknownLabel));
+    throw InputError(
+        file, fmt::format("label \"{}\" is not usable (empty, \"{}\", or with spaces or /)", label, kUnknownLabel));
 }
 
 void add_session(const std::string& dir, const std::string& label_override, const FeatureExtractor& extractor,
@@ -88,9 +88,9 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
   const FeatureExtractor extractor = choose_extractor(sources, backbone, database);
   if (database) {
     if (database->rows.front().size() != extractor.dimension())
-      throw InputError(sources.features_db, fmt::format("vectors of {} values, but the {} extractor gives {}",
-                                                        database->rows.front().size(), extractor.name(),
-                                                        extractor.dimension()));
+      throw InputError(sources.features_db,
+                       fmt::format("vectors of {} values, but the {} extractor gives {}", database->rows.front().size(),
+                                   extractor.name(), extractor.dimension()));
     for (const auto& label : database->labels) check_label(label, sources.features_db);
   }
 
@@ -131,7 +131,8 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
     block_weights = {{"image_shape", image_weight},
                      {"colour", colour_weight},
                      {"from", "leave-one-session-out error among 1, 1/2, 1/4, 1/8 and 0, image shape blocks first"}};
-    spdlog::info("image shape blocks weight {}, colour block weight {} (leave-one-session-out)", image_weight, colour_weight);
+    spdlog::info("image shape blocks weight {}, colour block weight {} (leave-one-session-out)", image_weight,
+                 colour_weight);
   } else {
     model = train_rls(x, targets, labels, rls);
   }
@@ -149,18 +150,15 @@ AppearanceClassifier train_appearance(const TrainingSources& sources, const std:
       decision.max_distance = sibling_radius(*known);
       calibration["max_distance_from"] =
           "the largest distance from a training session's mean depth block to the nearest other session of its label";
-      spdlog::info("unknown beyond {:.3f} from every training session of the answer (depth block)", decision.max_distance);
+      spdlog::info("unknown beyond {:.3f} from every training session of the answer (depth block)",
+                   decision.max_distance);
     }
     model.weights.topRows(blocks[blocks.size() - 2].start) *= block_weights["image_shape"].get<double>();
     model.weights.middleRows(blocks.back().start, blocks.back().size) *= block_weights["colour"].get<double>();
   }
 
-  training_summary = {{"samples", data.rows.size()},
-                      {"per_label", counts},
-                      {"sessions", sources.sessions},
-                      {"label", sources.label},
-                      {"images", sources.images},
-                      {"features_db", sources.features_db}};
+  training_summary = {{"samples", data.rows.size()}, {"per_label", counts},      {"sessions", sources.sessions},
+                      {"label", sources.label},      {"images", sources.images}, {"features_db", sources.features_db}};
   if (!block_weights.empty()) training_summary["block_weights"] = block_weights;
   return {extractor, std::move(model), decision, calibration, std::move(known)};
 }
@@ -195,15 +193,16 @@ Json classify_appearance(const AppearanceClassifier& classifier, const std::stri
   } else {
     rows = read_feature_rows(input.features);
     if (rows.front().size() != extractor.dimension())
-      throw InputError(input.features, fmt::format("rows of {} values, but {} expects {} ({} features)",
-                                                   rows.front().size(), classifier_path, extractor.dimension(),
-                                                   extractor.name()));
+      throw InputError(input.features,
+                       fmt::format("rows of {} values, but {} expects {} ({} features)", rows.front().size(),
+                                   classifier_path, extractor.dimension(), extractor.name()));
     for (std::size_t i = 0; i < rows.size(); ++i) samples.push_back({{"row", i}});
     source = {{"features", input.features}};
   }
   const Json context = {{"classifier", classifier_path}, {"extractor", extractor.name()}, {"input", source}};
   const Eigen::MatrixXd features = stack(rows);
-  Json result = classification_json(labels, rls_scores(classifier.model, features), std::move(samples), decision, context);
+  Json result =
+      classification_json(labels, rls_scores(classifier.model, features), std::move(samples), decision, context);
   // A whole session whose head lies farther from every training session of its answer than any training
   // session lies from its nearest sibling is a tool never seen (known_sessions.hpp), unless it scores
   // higher than any tool never seen did in training.

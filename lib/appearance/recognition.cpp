@@ -13,7 +13,8 @@ Json score_object(const std::vector<std::string>& labels, const Eigen::RowVector
 
 }  // namespace
 
-Decision decide(const Eigen::RowVectorXd& scores, const std::vector<std::string>& labels, const DecisionConfig& config) {
+Decision decide(const Eigen::RowVectorXd& scores, const std::vector<std::string>& labels,
+                const DecisionConfig& config) {
   if (scores.size() != static_cast<Eigen::Index>(labels.size()) || labels.size() < 2)
     throw std::invalid_argument("decide: one score per label, at least two labels");
   Eigen::Index best = 0, second = -1;
@@ -30,8 +31,8 @@ Decision decide(const Eigen::RowVectorXd& scores, const std::vector<std::string>
   return decision;
 }
 
-Json classification_json(const std::vector<std::string>& labels, const Eigen::MatrixXd& scores, std::vector<Json> samples,
-                         const DecisionConfig& config, const Json& context) {
+Json classification_json(const std::vector<std::string>& labels, const Eigen::MatrixXd& scores,
+                         std::vector<Json> samples, const DecisionConfig& config, const Json& context) {
   if (scores.rows() == 0 || static_cast<std::size_t>(scores.rows()) != samples.size())
     throw std::invalid_argument("classification_json: one sample description per score row");
   const Eigen::RowVectorXd mean = scores.colwise().mean();
@@ -41,14 +42,10 @@ Json classification_json(const std::vector<std::string>& labels, const Eigen::Ma
     sample["label"] = decide(scores.row(i), labels, config).label;
     sample["scores"] = score_object(labels, scores.row(i));
   }
-  Json result = {{"type", "classification"},
-                 {"version", kClassificationVersion},
-                 {"label", overall.label},
-                 {"scores", score_object(labels, mean)},
-                 {"best_score", overall.best_score},
-                 {"margin", overall.margin},
-                 {"min_score", config.min_score},
-                 {"min_margin", config.min_margin}};
+  Json result = {{"type", "classification"},         {"version", kClassificationVersion},
+                 {"label", overall.label},           {"scores", score_object(labels, mean)},
+                 {"best_score", overall.best_score}, {"margin", overall.margin},
+                 {"min_score", config.min_score},    {"min_margin", config.min_margin}};
   for (const auto& [key, value] : context.items()) result[key] = value;
   result["per_sample"] = std::move(samples);
   return result;

@@ -34,9 +34,9 @@ Spectrum spectrum(const Eigen::MatrixXd& x) {
   // is far below anything choosing lambda or fitting +-1 targets can notice. Components below that
   // resolution are dropped.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXf> eigen(gram.cast<float>());  // reads the lower triangle
-  const Eigen::VectorXd values = eigen.eigenvalues().cast<double>();                // ascending
-  const double tolerance = std::max(values.maxCoeff(), 0.0) * static_cast<double>(values.size()) *
-                           std::numeric_limits<float>::epsilon();
+  const Eigen::VectorXd values = eigen.eigenvalues().cast<double>();               // ascending
+  const double tolerance =
+      std::max(values.maxCoeff(), 0.0) * static_cast<double>(values.size()) * std::numeric_limits<float>::epsilon();
   Eigen::Index first = 0;
   while (first < values.size() && values[first] <= tolerance) ++first;
   const Eigen::Index rank = values.size() - first;
@@ -48,7 +48,8 @@ Spectrum spectrum(const Eigen::MatrixXd& x) {
 
 // +1 for the row's label, -1 for the others.
 Eigen::MatrixXd target_matrix(const std::vector<std::size_t>& targets, std::size_t labels) {
-  Eigen::MatrixXd y = -Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(targets.size()), static_cast<Eigen::Index>(labels));
+  Eigen::MatrixXd y =
+      -Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(targets.size()), static_cast<Eigen::Index>(labels));
   for (std::size_t i = 0; i < targets.size(); ++i) {
     if (targets[i] >= labels) throw std::invalid_argument("train_rls: target out of range");
     y(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(targets[i])) = 1.0;
@@ -61,7 +62,8 @@ void check_training(const Eigen::MatrixXd& features, const std::vector<std::size
                     const std::vector<std::string>& labels, const RlsConfig& config) {
   const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
   if (static_cast<std::size_t>(n) != targets.size()) throw std::invalid_argument("train_rls: one target per row");
-  if (config.lambda_count < 1 || !(config.lambda_min_ratio > 0) || !(config.lambda_max_ratio >= config.lambda_min_ratio))
+  if (config.lambda_count < 1 || !(config.lambda_min_ratio > 0) ||
+      !(config.lambda_max_ratio >= config.lambda_min_ratio))
     throw std::invalid_argument("train_rls: bad lambda range");
   Eigen::VectorXi count = Eigen::VectorXi::Zero(classes);
   for (const std::size_t target : targets) {
@@ -79,7 +81,7 @@ RlsModel fit(const Eigen::MatrixXd& features, const Spectrum& s, const Eigen::Ma
   const Eigen::Index n = features.rows(), classes = static_cast<Eigen::Index>(labels.size());
   const Eigen::RowVectorXd x_mean = features.colwise().mean(), y_mean = y.colwise().mean();
   const Eigen::MatrixXd x = features.rowwise() - x_mean, yc = y.rowwise() - y_mean;
-  const Eigen::MatrixXd z = s.u.transpose() * yc;           // r x classes
+  const Eigen::MatrixXd z = s.u.transpose() * yc;            // r x classes
   const Eigen::MatrixXd u2 = s.u.array().square().matrix();  // for the hat diagonal
   const double mean_eigenvalue = s.s2.size() ? s.s2.mean() : 1.0;
 
@@ -87,8 +89,8 @@ RlsModel fit(const Eigen::MatrixXd& features, const Spectrum& s, const Eigen::Ma
   best.loo_error = std::numeric_limits<double>::infinity();
   for (int k = 0; k < config.lambda_count; ++k) {
     const double t = config.lambda_count == 1 ? 0.0 : static_cast<double>(k) / (config.lambda_count - 1);
-    const double lambda = mean_eigenvalue * config.lambda_min_ratio *
-                          std::pow(config.lambda_max_ratio / config.lambda_min_ratio, t);
+    const double lambda =
+        mean_eigenvalue * config.lambda_min_ratio * std::pow(config.lambda_max_ratio / config.lambda_min_ratio, t);
     const Eigen::VectorXd shrink = s.s2.array() / (s.s2.array() + lambda);
     const Eigen::MatrixXd residual = yc - s.u * (shrink.asDiagonal() * z);
     const Eigen::VectorXd hat = (u2 * shrink).array() + 1.0 / n;
@@ -149,12 +151,13 @@ Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const st
                                        std::size_t labels, const std::vector<std::size_t>& groups, double lambda) {
   if (static_cast<std::size_t>(features.rows()) != targets.size() || targets.size() != groups.size())
     throw std::invalid_argument("leave_group_out_scores: one target and one group per row");
-  return group_out(spectrum(features.rowwise() - features.colwise().mean()), target_matrix(targets, labels), groups, lambda);
+  return group_out(spectrum(features.rowwise() - features.colwise().mean()), target_matrix(targets, labels), groups,
+                   lambda);
 }
 
 double weigh_block(Eigen::MatrixXd& x, const std::vector<std::size_t>& targets, const std::vector<std::string>& labels,
-                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size, const RlsConfig& config,
-                   RlsModel& model) {
+                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size,
+                   const RlsConfig& config, RlsModel& model) {
   check_training(x, targets, labels, config);
   if (groups.size() != targets.size()) throw std::invalid_argument("weigh_block: one group per row");
   const Eigen::MatrixXd y = target_matrix(targets, labels.size());

@@ -1,8 +1,9 @@
 #include "toolinc/appearance/sha256.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <array>
 #include <cstdint>
-#include <spdlog/fmt/fmt.h>
 
 #include "toolinc/io/read_file.hpp"
 

@@ -36,7 +36,8 @@ DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<st
                                   bool sessions_only, const RlsModel& model, const RlsConfig& rls,
                                   const UnknownFloorConfig& floor, Json& summary) {
   if (!(floor.known_rejection >= 0 && floor.known_rejection < 1))
-    throw std::invalid_argument(fmt::format("unknown floor: known_rejection {} is not in [0, 1)", floor.known_rejection));
+    throw std::invalid_argument(
+        fmt::format("unknown floor: known_rejection {} is not in [0, 1)", floor.known_rejection));
   DecisionConfig decision;
   summary = {{"min_margin_from", "default: 5 % of the +-1 target range"}};
   if (labels.size() < 3 || !sessions_only) {
@@ -46,7 +47,8 @@ DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<st
   }
   std::vector<double> known, unknown;
   const Eigen::MatrixXd held_out = leave_group_out_scores(x, targets, labels.size(), groups, model.lambda);
-  for (const auto& [target, mean] : group_means(held_out, targets, groups)) known.push_back(mean[static_cast<Eigen::Index>(target)]);
+  for (const auto& [target, mean] : group_means(held_out, targets, groups))
+    known.push_back(mean[static_cast<Eigen::Index>(target)]);
   for (std::size_t out = 0; out < labels.size(); ++out) {
     std::vector<Eigen::Index> in_rows, out_rows;
     std::vector<std::size_t> in_targets, out_groups;
@@ -72,19 +74,22 @@ DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<st
   // however far its head lies from the training sessions (the distance rule, known_sessions.hpp).
   decision.sure_score = *std::max_element(unknown.begin(), unknown.end());
   const auto share_below = [&](const std::vector<double>& v) {
-    return static_cast<double>(std::count_if(v.begin(), v.end(), [&](double s) { return s < decision.min_score; })) / v.size();
+    return static_cast<double>(std::count_if(v.begin(), v.end(), [&](double s) { return s < decision.min_score; })) /
+           v.size();
   };
-  summary["min_score_from"] = fmt::format("the {} quantile of the scores of known sessions left out of training, at most {}",
-                                           floor.known_rejection, DecisionConfig{}.min_score);
+  summary["min_score_from"] =
+      fmt::format("the {} quantile of the scores of known sessions left out of training, at most {}",
+                  floor.known_rejection, DecisionConfig{}.min_score);
   summary["known_groups"] = known.size();
   summary["known_rejected"] = share_below(known);
   summary["unknown_groups"] = unknown.size();
   summary["unknown_accepted"] = 1.0 - share_below(unknown);
   summary["sure_score_from"] = "the highest score of a session whose label was left out of training";
-  spdlog::info("unknown floor {:.3f} on the best score: on the training data it rejects {:.0f}% of {} known sessions "
-               "(left out) and accepts {:.0f}% of {} never seen (their label left out)", decision.min_score,
-               100.0 * summary["known_rejected"].get<double>(), known.size(),
-               100.0 * summary["unknown_accepted"].get<double>(), unknown.size());
+  spdlog::info(
+      "unknown floor {:.3f} on the best score: on the training data it rejects {:.0f}% of {} known sessions "
+      "(left out) and accepts {:.0f}% of {} never seen (their label left out)",
+      decision.min_score, 100.0 * summary["known_rejected"].get<double>(), known.size(),
+      100.0 * summary["unknown_accepted"].get<double>(), unknown.size());
   return decision;
 }
 

@@ -1,13 +1,13 @@
 #include "toolinc/cloud/preprocessing.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
-
-#include <spdlog/fmt/fmt.h>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/scatter.hpp"
@@ -24,9 +24,9 @@ Points voxel_downsample(const Points& points, double voxel_size) {
     if (!(cell.cwiseAbs().maxCoeff() < 0x1p62))
       throw std::invalid_argument(fmt::format("voxel size {} m is too small for a point at ({}, {}, {}) m", voxel_size,
                                               points[i].x(), points[i].y(), points[i].z()));
-    keyed[i] = {{static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
-                 static_cast<std::int64_t>(cell.z())},
-                i};
+    keyed[i] = {
+        {static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()), static_cast<std::int64_t>(cell.z())},
+        i};
   }
   std::sort(keyed.begin(), keyed.end());
   Points out;
@@ -84,7 +84,8 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
 Vec3 normal_at(const KdTree& tree, const Vec3& point, int k) {
   const auto neighbours = tree.knn(point, k);
   if (neighbours.size() < 3) return Vec3::UnitZ();
-  const auto spread = scatter_of<3>(neighbours.size(), [&](std::size_t j) { return tree.points()[neighbours[j].index]; });
+  const auto spread =
+      scatter_of<3>(neighbours.size(), [&](std::size_t j) { return tree.points()[neighbours[j].index]; });
   // The closed-form 3x3 solver: several times faster than the iterative one, and accurate enough
   // for the smallest eigenvector of a neighbourhood's spread.
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;

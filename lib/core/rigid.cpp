@@ -8,8 +8,7 @@
 namespace toolinc {
 
 bool is_rotation(const Eigen::Matrix3d& m, double tolerance) {
-  return m.allFinite() &&
-         (m.transpose() * m - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= tolerance &&
+  return m.allFinite() && (m.transpose() * m - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= tolerance &&
          std::abs(m.determinant() - 1.0) <= tolerance;
 }
 

@@ -1,4 +1,4 @@
-#include "toolinc/frame/cylinder_fit.hpp"
+#include "frame/cylinder_fit.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

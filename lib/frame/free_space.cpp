@@ -1,4 +1,4 @@
-#include "toolinc/frame/free_space.hpp"
+#include "frame/free_space.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -61,7 +61,8 @@ bool FreeSpace::seen_from(const View& view, const Vec3& p) const {
   // The nearest surface around the pixel: points are sparse, so a single pixel may show a hole.
   float nearest = std::numeric_limits<float>::infinity();
   for (int dv = -1; dv <= 1; ++dv)
-    for (int du = -1; du <= 1; ++du) nearest = std::min(nearest, view.depth[static_cast<std::size_t>(v + dv) * view.size + u + du]);
+    for (int du = -1; du <= 1; ++du)
+      nearest = std::min(nearest, view.depth[static_cast<std::size_t>(v + dv) * view.size + u + du]);
   return q.z() <= nearest + tolerance_;
 }
 

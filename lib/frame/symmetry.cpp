@@ -1,4 +1,4 @@
-#include "toolinc/frame/symmetry.hpp"
+#include "frame/symmetry.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,34 +11,32 @@
 #include <stdexcept>
 #include <utility>
 
+#include "frame/cylinder_fit.hpp"
+#include "frame/symmetry.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/scatter.hpp"
 #include "toolinc/core/statistics.hpp"
-#include "toolinc/frame/cylinder_fit.hpp"
-#include "toolinc/frame/symmetry.hpp"
 
 namespace toolinc {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-constexpr double kBarBand = 2.0;  // handle radii: how far a bar-like head's points lie from its line
+constexpr double kBarBand = 2.0;           // handle radii: how far a bar-like head's points lie from its line
 constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis under stereo noise
 // A blade passes by the handle's axis: the middle of its depth, seen along the handle, lies within this
 // share of its width from it (a scoop's rims rise 0.1-0.3 of its width; a hoe's blade stands a head's
 // length, about its width or more, in front).
 constexpr double kBladeDepthOffset = 0.5;
 
-void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud,
-                          const PrincipalAxes& axes, const ToolFrameConfig& config) {
+void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud, const PrincipalAxes& axes,
+                          const ToolFrameConfig& config) {
   if (!input.empty() && outside.empty())
-    throw MethodError(fmt::format("all {} points lie within the hand radius ({} m)", input.size(),
-                                  config.hand_radius));
+    throw MethodError(fmt::format("all {} points lie within the hand radius ({} m)", input.size(), config.hand_radius));
   if (static_cast<int>(outside.size()) < config.min_points)
-    throw MethodError(fmt::format("too few points: {} outside the hand radius, at least {} needed",
-                                  outside.size(), config.min_points));
-  if (cloud.size() < 10)
-    throw MethodError(fmt::format("too few points after removing stray points: {}", cloud.size()));
+    throw MethodError(fmt::format("too few points: {} outside the hand radius, at least {} needed", outside.size(),
+                                  config.min_points));
+  if (cloud.size() < 10) throw MethodError(fmt::format("too few points after removing stray points: {}", cloud.size()));
   double lo = 0.0, hi = 0.0;
   for (const auto& p : cloud) {
     const double t = (p - axes.centroid).dot(axes.axes.col(0));
@@ -46,14 +44,18 @@ void check_not_degenerate(const Points& input, const Points& outside, const Poin
     hi = std::max(hi, t);
   }
   if (hi - lo < config.min_length)
-    throw MethodError(fmt::format("the points span only {:.4f} m along their major axis (min_length {} m)",
-                                  hi - lo, config.min_length));
+    throw MethodError(fmt::format("the points span only {:.4f} m along their major axis (min_length {} m)", hi - lo,
+                                  config.min_length));
   if (std::sqrt(axes.eigenvalues[1]) < config.min_thickness)
-    throw MethodError(fmt::format("the points are collinear: RMS spread across the major axis {:.2e} m "
-                                  "(min_thickness {} m)", std::sqrt(axes.eigenvalues[1]), config.min_thickness));
+    throw MethodError(
+        fmt::format("the points are collinear: RMS spread across the major axis {:.2e} m "
+                    "(min_thickness {} m)",
+                    std::sqrt(axes.eigenvalues[1]), config.min_thickness));
   if (std::sqrt(axes.eigenvalues[2]) < config.min_thickness)
-    throw MethodError(fmt::format("the points are planar: RMS spread across their plane {:.2e} m "
-                                  "(min_thickness {} m)", std::sqrt(axes.eigenvalues[2]), config.min_thickness));
+    throw MethodError(
+        fmt::format("the points are planar: RMS spread across their plane {:.2e} m "
+                    "(min_thickness {} m)",
+                    std::sqrt(axes.eigenvalues[2]), config.min_thickness));
 }
 
 struct HandleFit {
@@ -86,8 +88,7 @@ Points near_half(const Points& cloud) {
 // length, less the hand_skip share at the hand end, that lie on the current handle cylinder. A
 // cylinder fit, unlike a principal axis, is not tilted by the slanted cut the hand sphere leaves or by
 // uneven coverage of the handle.
-HandleFit fit_handle(const Points& cloud, const PrincipalAxes& start, const ToolFrameConfig& config,
-                     double hand_skip) {
+HandleFit fit_handle(const Points& cloud, const PrincipalAxes& start, const ToolFrameConfig& config, double hand_skip) {
   Cylinder handle = line_towards_hand(start.centroid, start.axes.col(0));
   HandleFit fit{handle.axis, handle.point, 0, 0.0, 0.0, true};
   std::vector<double> along(cloud.size()), radial;
@@ -179,8 +180,8 @@ HandleFit stick_line(const Points& cloud, const Cylinder& line) {
 struct Curl {
   double rise, half_width;
 };
-Curl head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& plane_point,
-               const Vec3& x_axis, const Vec3& z_axis) {
+Curl head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, const Vec3& plane_point, const Vec3& x_axis,
+               const Vec3& z_axis) {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d right = Eigen::Vector3d::Zero();
   std::vector<double> width;
@@ -216,8 +217,10 @@ std::vector<std::size_t> basin_minima(const std::vector<SymmetryCandidate>& swee
     if (sweep[i].score > ceiling) {
       in_basin = false;
     } else if (!in_basin || sweep[i].score < sweep[minima.back()].score) {
-      if (in_basin) minima.back() = i;
-      else minima.push_back(i);
+      if (in_basin)
+        minima.back() = i;
+      else
+        minima.push_back(i);
       in_basin = true;
     }
   }
@@ -279,7 +282,8 @@ std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint
 }
 
 // The head's principal spreads (ascending) and its thinnest direction, the last column.
-Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud, const std::vector<std::uint32_t>& head) {
+Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud,
+                                                           const std::vector<std::uint32_t>& head) {
   const auto spread = scatter_of<3>(head.size(), [&](std::size_t j) { return cloud[head[j]]; });
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread.scatter);
 }
@@ -370,19 +374,25 @@ Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle
 
 std::string to_string(HeadKind kind) {
   switch (kind) {
-    case HeadKind::none: return "none";
-    case HeadKind::bar: return "bar";
-    case HeadKind::blade: return "blade";
-    case HeadKind::scoop: return "scoop";
-    case HeadKind::plate: return "plate";
-    case HeadKind::other: break;
+    case HeadKind::none:
+      return "none";
+    case HeadKind::bar:
+      return "bar";
+    case HeadKind::blade:
+      return "blade";
+    case HeadKind::scoop:
+      return "scoop";
+    case HeadKind::plate:
+      return "plate";
+    case HeadKind::other:
+      break;
   }
   return "other";
 }
 
 HeadKind head_kind_from_string(const std::string& name) {
-  for (const HeadKind kind : {HeadKind::none, HeadKind::bar, HeadKind::blade, HeadKind::scoop, HeadKind::plate,
-                              HeadKind::other})
+  for (const HeadKind kind :
+       {HeadKind::none, HeadKind::bar, HeadKind::blade, HeadKind::scoop, HeadKind::plate, HeadKind::other})
     if (to_string(kind) == name) return kind;
   throw std::invalid_argument("unknown head kind '" + name + "' (none, bar, blade, scoop, plate, other)");
 }
@@ -490,8 +500,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     const Vec3 x_axis = y_axis.cross(normal_at(angle));
     const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, x_axis, config.salience_quantile);
     const bool forward = r.positive >= r.negative;
-    const bool face = front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis),
-                                    config.front_band);
+    const bool face =
+        front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis), config.front_band);
     frame.tied_planes.push_back({angle / kDeg, normal_at(angle), score});
     const std::pair<bool, double> merit{face, std::max(r.positive, r.negative)};
     if (merit > best_merit) {
@@ -512,9 +522,12 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.symmetry_plane_rule =
       blade ? "across the blade (a plate continuing the handle, centred on its axis), whose own plane any thin "
               "plate mirrors across"
-      : frame.tied_planes.size() < 2 ? "best mirror about the handle axis"
-              : fmt::format("of {} planes mirroring as well, the one whose effector front is a face, not a corner, "
-                            "and reaches farthest", frame.tied_planes.size());
+      : frame.tied_planes.size() < 2
+          ? "best mirror about the handle axis"
+          : fmt::format(
+                "of {} planes mirroring as well, the one whose effector front is a face, not a corner, "
+                "and reaches farthest",
+                frame.tied_planes.size());
   if (const auto line = head_line(cloud, head, centre, u, v, config)) {
     const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
     std::optional<Cylinder> bar;
@@ -589,8 +602,9 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
         std::swap(frame.effector_reach_positive, frame.effector_reach_negative);
         frame.head_curl = -frame.head_curl;
       }
-      frame.effector_sign_rule = "the head is a blade or scoop facing +-X whose edges curl towards +X: it works "
-                                 "with its concave side";
+      frame.effector_sign_rule =
+          "the head is a blade or scoop facing +-X whose edges curl towards +X: it works "
+          "with its concave side";
     }
   }
 
@@ -614,24 +628,29 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   if (frame.stick) {
     frame.head_kind = HeadKind::none;
   } else if (frame.head_kind != HeadKind::bar) {
-    if (blade) frame.head_kind = curled ? HeadKind::scoop : HeadKind::blade;
-    else if (thin_along_x) frame.head_kind = HeadKind::plate;
+    if (blade)
+      frame.head_kind = curled ? HeadKind::scoop : HeadKind::blade;
+    else if (thin_along_x)
+      frame.head_kind = HeadKind::plate;
   }
   // Doubts: a handle that does not pass by the hand is not the one it holds; an effector whose two
   // sides reach differently, but not by enough to be salient, may have its side reversed (a tool whose
   // sides reach alike within salience-min is symmetric: either side is right).
-  frame.confidence.check(1.0 - frame.hand_to_handle / config.grasp_reach,
-                         fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
-                                     "it is not what the hand holds", 1000 * frame.hand_to_handle, 1000 * config.grasp_reach));
+  frame.confidence.check(
+      1.0 - frame.hand_to_handle / config.grasp_reach,
+      fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
+                  "it is not what the hand holds",
+                  1000 * frame.hand_to_handle, 1000 * config.grasp_reach));
   frame.confidence.check(1.0 - frame.handle_radius / config.grasp_max_radius,
                          fmt::format("the handle's fitted radius is {:.0f} mm, beyond grasp-max-radius ({:.0f} mm): "
-                                     "thicker than the hand holds", 1000 * frame.handle_radius,
-                                     1000 * config.grasp_max_radius));
+                                     "thicker than the hand holds",
+                                     1000 * frame.handle_radius, 1000 * config.grasp_max_radius));
   const double reach_difference = frame.effector_reach_positive - frame.effector_reach_negative;
   if (!frame.stick && !curled && !frame.salient_effector && std::abs(reach_difference) >= config.salience_min)
-    frame.confidence.check(0.0, fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "
-                                            "to tell its side, too different for a symmetric head",
-                                            1000 * frame.effector_reach_positive, 1000 * frame.effector_reach_negative));
+    frame.confidence.check(0.0,
+                           fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "
+                                       "to tell its side, too different for a symmetric head",
+                                       1000 * frame.effector_reach_positive, 1000 * frame.effector_reach_negative));
   // The centroid projected onto the symmetry plane.
   frame.origin = principal.centroid - (principal.centroid - (centre + offset * z_normal)).dot(z_normal) * z_normal;
   return frame;

@@ -159,9 +159,10 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   const KdTree tree(points);
   const Pick p = pick(points, tree, frame, config);
   if (p.chosen == KdTree::npos)
-    throw MethodError(fmt::format("no tooltip: none of the {} effector-side points has more than {} "
-                                  "neighbours within {} m", p.candidates, config.min_neighbors,
-                                  config.density_radius));
+    throw MethodError(
+        fmt::format("no tooltip: none of the {} effector-side points has more than {} "
+                    "neighbours within {} m",
+                    p.candidates, config.min_neighbors, config.density_radius));
   Tooltip tip;
   tip.candidates = p.candidates;
   tip.rejected_sparse = p.rejected_sparse;
@@ -205,12 +206,12 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   // w times the noise over the square root of the neighbourhood for the averaged distance in front.
   tip.noise_m = local_noise(tree, points[p.chosen], config.smoothing_neighbors);
   const double smoothed = tip.noise_m / std::sqrt(std::max(1, config.smoothing_neighbors));
-  const double sigma = frame.stick                                  ? tip.noise_m
-                       : frame.tip_at_far_end()                     ? smoothed
-                       : config.rule == TooltipRule::furthest       ? tip.noise_m
-                                                                    : config.effector_weight * smoothed;
+  const double sigma = frame.stick                            ? tip.noise_m
+                       : frame.tip_at_far_end()               ? smoothed
+                       : config.rule == TooltipRule::furthest ? tip.noise_m
+                                                              : config.effector_weight * smoothed;
   const double best = *std::max_element(p.tie_breaks.begin(), p.tie_breaks.end());
-  std::size_t other_tied = p.tied.size();  // the best of those farther than ambiguity-distance
+  std::size_t other_tied = p.tied.size();   // the best of those farther than ambiguity-distance
   Vec3 other_tied_position = Vec3::Zero();  // its tip
   for (std::size_t j = 0; j < p.tied.size(); ++j) {
     if (p.tie_breaks[j] < best - 2 * sigma) continue;
@@ -232,8 +233,8 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
     if (q.chosen != KdTree::npos)
       tip.alternatives.push_back({on_edge(points[q.chosen], other), other.symmetry_axis(), plane_score, source});
   };
-  for (const auto& [planes, source] : {std::pair{&frame.tied_planes, "tied symmetry plane"},
-                                       std::pair{&frame.rival_planes, "rival symmetry plane"}})
+  for (const auto& [planes, source] :
+       {std::pair{&frame.tied_planes, "tied symmetry plane"}, std::pair{&frame.rival_planes, "rival symmetry plane"}})
     for (const auto& plane : *planes)
       if (std::abs(plane.normal.dot(frame.symmetry_axis())) <= std::cos(M_PI / 36))  // not the chosen plane
         add_tip_with(with_symmetry_plane(points, frame, plane.normal), plane.score, source);

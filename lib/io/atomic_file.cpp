@@ -31,7 +31,9 @@ pid_t temp_owner(const std::string& entry, const std::string& name) {
   const std::string rest = entry.substr(prefix.size());
   const std::size_t dot = rest.find('.');
   const std::string pid = rest.substr(0, dot), counter = dot == std::string::npos ? "" : rest.substr(dot + 1);
-  const auto digits = [](const std::string& s) { return !s.empty() && s.size() < 10 && s.find_first_not_of("0123456789") == std::string::npos; };
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && s.size() < 10 && s.find_first_not_of("0123456789") == std::string::npos;
+  };
   if (!digits(pid) || (dot != std::string::npos && !digits(counter))) return 0;
   return static_cast<pid_t>(std::stol(pid));
 }
@@ -159,8 +161,10 @@ void OutputFolder::commit() {
     if (!fs::exists(dir_, ec) || fs::is_empty(dir_, ec)) {
       fs::rename(temp_, dir_);  // replaces an empty folder too
     } else {
-      for (const auto& entry : fs::directory_iterator(temp_)) check_not_an_input((fs::path(dir_) / entry.path().filename()).string());
-      for (const auto& entry : fs::directory_iterator(temp_)) fs::rename(entry.path(), fs::path(dir_) / entry.path().filename());
+      for (const auto& entry : fs::directory_iterator(temp_))
+        check_not_an_input((fs::path(dir_) / entry.path().filename()).string());
+      for (const auto& entry : fs::directory_iterator(temp_))
+        fs::rename(entry.path(), fs::path(dir_) / entry.path().filename());
       sync_path(dir_, dir_);
       fs::remove(temp_);
     }

@@ -35,16 +35,26 @@ T load_raw(const char* p, bool swap) {
 // file's byte order differs from the host's.
 inline double load_scalar(const char* p, ScalarType type, bool swap) {
   switch (type) {
-    case ScalarType::Int8: return load_raw<std::int8_t>(p, swap);
-    case ScalarType::UInt8: return load_raw<std::uint8_t>(p, swap);
-    case ScalarType::Int16: return load_raw<std::int16_t>(p, swap);
-    case ScalarType::UInt16: return load_raw<std::uint16_t>(p, swap);
-    case ScalarType::Int32: return load_raw<std::int32_t>(p, swap);
-    case ScalarType::UInt32: return load_raw<std::uint32_t>(p, swap);
-    case ScalarType::Int64: return static_cast<double>(load_raw<std::int64_t>(p, swap));
-    case ScalarType::UInt64: return static_cast<double>(load_raw<std::uint64_t>(p, swap));
-    case ScalarType::Float32: return load_raw<float>(p, swap);
-    case ScalarType::Float64: return load_raw<double>(p, swap);
+    case ScalarType::Int8:
+      return load_raw<std::int8_t>(p, swap);
+    case ScalarType::UInt8:
+      return load_raw<std::uint8_t>(p, swap);
+    case ScalarType::Int16:
+      return load_raw<std::int16_t>(p, swap);
+    case ScalarType::UInt16:
+      return load_raw<std::uint16_t>(p, swap);
+    case ScalarType::Int32:
+      return load_raw<std::int32_t>(p, swap);
+    case ScalarType::UInt32:
+      return load_raw<std::uint32_t>(p, swap);
+    case ScalarType::Int64:
+      return static_cast<double>(load_raw<std::int64_t>(p, swap));
+    case ScalarType::UInt64:
+      return static_cast<double>(load_raw<std::uint64_t>(p, swap));
+    case ScalarType::Float32:
+      return load_raw<float>(p, swap);
+    case ScalarType::Float64:
+      return load_raw<double>(p, swap);
   }
   return 0.0;
 }

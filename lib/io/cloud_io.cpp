@@ -16,15 +16,19 @@ namespace io_detail {
 std::size_t scalar_size(ScalarType type) {
   switch (type) {
     case ScalarType::Int8:
-    case ScalarType::UInt8: return 1;
+    case ScalarType::UInt8:
+      return 1;
     case ScalarType::Int16:
-    case ScalarType::UInt16: return 2;
+    case ScalarType::UInt16:
+      return 2;
     case ScalarType::Int32:
     case ScalarType::UInt32:
-    case ScalarType::Float32: return 4;
+    case ScalarType::Float32:
+      return 4;
     case ScalarType::Int64:
     case ScalarType::UInt64:
-    case ScalarType::Float64: return 8;
+    case ScalarType::Float64:
+      return 8;
   }
   return 0;
 }

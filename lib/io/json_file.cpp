@@ -10,14 +10,17 @@ namespace toolinc {
 
 void check_json_limits(std::string_view text, const std::string& file) {
   if (text.size() > kMaxJsonBytes)
-    throw InputError(file, fmt::format("JSON of {} bytes is larger than the {} bytes allowed", text.size(), kMaxJsonBytes));
+    throw InputError(file,
+                     fmt::format("JSON of {} bytes is larger than the {} bytes allowed", text.size(), kMaxJsonBytes));
   std::size_t depth = 0;
   bool in_string = false;
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (in_string) {
-      if (c == '\\') ++i;  // the escaped character cannot end the string
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;  // the escaped character cannot end the string
+      else if (c == '"')
+        in_string = false;
     } else if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
@@ -73,7 +76,8 @@ Eigen::Vector3d vector3_field(const Json& json, const std::string& key, const st
 Eigen::Matrix4d matrix4_field(const Json& json, const std::string& key, const std::string& file) {
   if (!json.contains(key)) throw InputError(file, fmt::format("missing \"{}\"", key));
   const Json& rows = json.at(key);
-  if (!rows.is_array() || rows.size() != 4) throw InputError(file, fmt::format("{}: expected 4 rows of 4 numbers", key));
+  if (!rows.is_array() || rows.size() != 4)
+    throw InputError(file, fmt::format("{}: expected 4 rows of 4 numbers", key));
   Eigen::Matrix4d m;
   for (int r = 0; r < 4; ++r) {
     if (!rows[r].is_array() || rows[r].size() != 4)
@@ -94,8 +98,8 @@ void check_type(const Json& json, const std::string& type, int supported_version
     throw InputError(file, fmt::format("not a {} file (no \"type\")", type));
   if (json["type"].get<std::string>() != type)
     throw InputError(file, fmt::format("expected type \"{}\", found \"{}\"", type, json["type"].get<std::string>()));
-  if (!json.contains("version") || !json["version"].is_number_integer() ||
-      json["version"].get<int>() < 1 || json["version"].get<int>() > supported_version)
+  if (!json.contains("version") || !json["version"].is_number_integer() || json["version"].get<int>() < 1 ||
+      json["version"].get<int>() > supported_version)
     throw InputError(file, fmt::format("unsupported {} version (this build reads up to {})", type, supported_version));
 }
 

@@ -12,9 +12,9 @@
 
 #include "cloud_formats.hpp"
 #include "toolinc/core/error.hpp"
-#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/limits.hpp"
 #include "toolinc/io/pcd_write.hpp"
+#include "toolinc/io/read_file.hpp"
 
 namespace toolinc::io_detail {
 namespace {
@@ -312,8 +312,8 @@ void read_compressed(const std::string& path, const PcdHeader& header, const Rol
   for (Column& column : columns) column.start *= header.points;
   // Decompressed, the data is a binary PCD body: no larger than a file the reader accepts.
   if (uncompressed > kMaxFileBytes)
-    throw InputError(path, "binary_compressed: " + std::to_string(uncompressed) + " bytes uncompressed, more than the " +
-                               std::to_string(kMaxFileBytes) + " allowed");
+    throw InputError(path, "binary_compressed: " + std::to_string(uncompressed) +
+                               " bytes uncompressed, more than the " + std::to_string(kMaxFileBytes) + " allowed");
   // An LZF back-reference of 3 bytes yields at most 264: a larger claim is corrupt, not worth allocating.
   if (uncompressed / 88 > compressed) throw InputError(path, "corrupt binary_compressed data (sizes do not fit LZF)");
   std::vector<std::uint8_t> block(uncompressed);
@@ -415,9 +415,15 @@ PointCloud decode_pcd(const std::string& path, const PcdHeader& header, std::str
   PointCloud cloud;
   const std::string_view body = data.substr(header.data_offset);
   switch (header.data) {
-    case PcdData::Ascii: read_ascii(path, header, roles, body, cloud); break;
-    case PcdData::Binary: read_binary(path, header, roles, body, cloud); break;
-    case PcdData::BinaryCompressed: read_compressed(path, header, roles, body, cloud); break;
+    case PcdData::Ascii:
+      read_ascii(path, header, roles, body, cloud);
+      break;
+    case PcdData::Binary:
+      read_binary(path, header, roles, body, cloud);
+      break;
+    case PcdData::BinaryCompressed:
+      read_compressed(path, header, roles, body, cloud);
+      break;
   }
   if (header.viewpoint) cloud.viewpoints.push_back(*header.viewpoint);
   return cloud;
@@ -438,8 +444,8 @@ Points read_organised_pcd(const std::string& path, int width, int height) {
   const io_detail::PcdHeader header = io_detail::parse_header(path, data);
   const std::size_t w = header.width.value_or(header.points), h = header.height.value_or(1);
   if (w != static_cast<std::size_t>(width) || h != static_cast<std::size_t>(height) || header.points != w * h)
-    throw InputError(path, fmt::format("organised cloud is {}x{} ({} points), expected {}x{}", w, h, header.points,
-                                       width, height));
+    throw InputError(
+        path, fmt::format("organised cloud is {}x{} ({} points), expected {}x{}", w, h, header.points, width, height));
   Points points = io_detail::decode_pcd(path, header, data).points;
   io_detail::check_coordinate_range(path, points);
   return points;

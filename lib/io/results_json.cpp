@@ -17,7 +17,8 @@ Json confidence_json(const Confidence& c) {
 
 Json planes_json(const std::vector<SymmetryCandidate>& planes) {
   Json json = Json::array();
-  for (const auto& c : planes) json.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
+  for (const auto& c : planes)
+    json.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
   return json;
 }
 
@@ -38,21 +39,27 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
       {"head_kind", to_string(frame.head_kind)},
       {"confidence", confidence_json(frame.confidence)},
       {"diagnostics",
-       {{"points", {{"input", frame.points_input}, {"outside_hand", frame.points_outside_hand},
-                    {"used", frame.points_used}, {"handle", frame.handle_points}}},
+       {{"points",
+         {{"input", frame.points_input},
+          {"outside_hand", frame.points_outside_hand},
+          {"used", frame.points_used},
+          {"handle", frame.handle_points}}},
         {"centroid", to_json(frame.centroid)},
-        {"principal_axes", {to_json(Vec3(frame.principal.col(0))), to_json(Vec3(frame.principal.col(1))),
-                            to_json(Vec3(frame.principal.col(2)))}},
+        {"principal_axes",
+         {to_json(Vec3(frame.principal.col(0))), to_json(Vec3(frame.principal.col(1))),
+          to_json(Vec3(frame.principal.col(2)))}},
         {"handle_refinement_deg", frame.handle_refinement_deg},
-        {"handle_fit", {{"cylinder", frame.handle_cylinder}, {"radius_m", frame.handle_radius},
-                        {"rms_m", frame.handle_rms}}},
+        {"handle_fit",
+         {{"cylinder", frame.handle_cylinder}, {"radius_m", frame.handle_radius}, {"rms_m", frame.handle_rms}}},
         {"symmetry",
          {{"score", frame.symmetry_score},
-          {"score_meaning", "over the head's mirror images that are evidence: (contradicted + symmetry-match-weight "
-                            "x matched distance / tolerance) / their number; 0 perfect mirror, 1 none"},
+          {"score_meaning",
+           "over the head's mirror images that are evidence: (contradicted + symmetry-match-weight "
+           "x matched distance / tolerance) / their number; 0 perfect mirror, 1 none"},
           {"candidates_meaning", "the sweep about the handle axis, then the chosen plane"},
           {"across_handle_score", frame.across_handle_score},
-          {"across_handle_note", "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
+          {"across_handle_note",
+           "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
           {"candidates", candidates},
           {"tied_planes", planes_json(frame.tied_planes)},
           {"rival_planes", planes_json(frame.rival_planes)}}},
@@ -66,9 +73,12 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"stick", frame.stick},
         {"head", {{"length_m", frame.head_length}, {"width_m", frame.head_width}}},
         {"hand_to_handle_m", frame.hand_to_handle},
-        {"config", {{"hand_radius", config.hand_radius}, {"voxel_size", config.voxel_size},
-                    {"symmetry_tolerance", config.symmetry_tolerance}, {"handle_fraction", config.handle_fraction},
-                    {"handle_hand_skip", config.handle_hand_skip}}}}},
+        {"config",
+         {{"hand_radius", config.hand_radius},
+          {"voxel_size", config.voxel_size},
+          {"symmetry_tolerance", config.symmetry_tolerance},
+          {"handle_fraction", config.handle_fraction},
+          {"handle_hand_skip", config.handle_hand_skip}}}}},
   };
 }
 
@@ -79,10 +89,11 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   const Eigen::Matrix4d matrix = matrix4_field(json, "matrix", path);
   const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
   if (!is_rotation(rotation, 1e-4))
-    throw InputError(path, fmt::format("matrix is not a rotation (det {:.4f}, max |R^T R - I| {:.2e}): a tool "
-                                       "frame must be orthonormal and right-handed",
-                                       rotation.determinant(),
-                                       (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff()));
+    throw InputError(
+        path, fmt::format("matrix is not a rotation (det {:.4f}, max |R^T R - I| {:.2e}): a tool "
+                          "frame must be orthonormal and right-handed",
+                          rotation.determinant(),
+                          (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff()));
   if ((matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
     throw InputError(path, "matrix: the bottom row must be 0 0 0 1");
   ToolFrame frame;
@@ -91,8 +102,10 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   // The rule that chose the symmetry plane and the planes tied with it, when the file has them, so
   // find-tooltip can say what they give.
   const Json none;
-  const Json& diagnostics = json.contains("diagnostics") && json["diagnostics"].is_object() ? json["diagnostics"] : none;
-  if (diagnostics.contains("stick") && diagnostics["stick"].is_boolean()) frame.stick = diagnostics["stick"].get<bool>();
+  const Json& diagnostics =
+      json.contains("diagnostics") && json["diagnostics"].is_object() ? json["diagnostics"] : none;
+  if (diagnostics.contains("stick") && diagnostics["stick"].is_boolean())
+    frame.stick = diagnostics["stick"].get<bool>();
   if (diagnostics.contains("effector_side_clear") && diagnostics["effector_side_clear"].is_boolean())
     frame.effector_side_clear = diagnostics["effector_side_clear"].get<bool>();
   if (json.contains("head_kind")) {
@@ -194,7 +207,10 @@ Json tool_pose_json(const PoseResult& r, const AlignPoseConfig& config, const st
         {"roll_step_deg", config.roll_step_deg},
         {"hand_radius_m", config.hand_radius}}},
       {"timing_ms",
-       {{"model", model_ms}, {"view", r.view_ms}, {"global", r.global_ms}, {"refine", r.refine_ms},
+       {{"model", model_ms},
+        {"view", r.view_ms},
+        {"global", r.global_ms},
+        {"refine", r.refine_ms},
         {"total", total_ms}}},
   };
 }
@@ -223,26 +239,26 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
       {"position", to_json(tooltip.position)},
       {"position_in_tool_frame", to_json(tooltip.position_in_tool)},
       {"tool_frame", to_json(frame.hand_from_tool())},
-      {"attach_tip_frame",
-       {{"position", to_json(tooltip.position)}, {"axis_angle", {aa[0], aa[1], aa[2], aa[3]}}}},
+      {"attach_tip_frame", {{"position", to_json(tooltip.position)}, {"axis_angle", {aa[0], aa[1], aa[2], aa[3]}}}},
       {"tooltip_uncertainty_m", tooltip.uncertainty_m},
       {"ambiguous", tooltip.ambiguous},
       {"confidence", confidence_json(tooltip.confidence)},
       {"chosen_because",
-       std::string(frame.stick
-                       ? "a stick (nothing on the effector side stands out from the handle's axis by stick-width), "
+       std::string(
+           frame.stick ? "a stick (nothing on the effector side stands out from the handle's axis by stick-width), "
                          "whose effector axis is arbitrary: the middle of its far end, the points tied within "
                          "tie-tolerance of the farthest along the handle"
-                   : frame.tip_at_far_end()
-                       ? "a " + to_string(frame.head_kind) + " continuing the handle, which works with its far end: "
-                         "of the points tied within tie-tolerance of the farthest from the hand, the one farthest from "
-                         "the hand's line along the handle (a rim's corner), averaged over its neighbours"
-                   : config.rule == TooltipRule::weighted
-                       ? "best 0.8 x (in front of the effector plane) + 0.2 x (distance from the hand), the "
-                         "distance in front averaged over the point's neighbours, among the points tied within "
-                         "tie-tolerance"
-                       : "furthest in front of the effector plane, ties within tie-tolerance going to the point "
-                         "farthest from the hand") +
+           : frame.tip_at_far_end()
+               ? "a " + to_string(frame.head_kind) +
+                     " continuing the handle, which works with its far end: "
+                     "of the points tied within tie-tolerance of the farthest from the hand, the one farthest from "
+                     "the hand's line along the handle (a rim's corner), averaged over its neighbours"
+           : config.rule == TooltipRule::weighted
+               ? "best 0.8 x (in front of the effector plane) + 0.2 x (distance from the hand), the "
+                 "distance in front averaged over the point's neighbours, among the points tied within "
+                 "tie-tolerance"
+               : "furthest in front of the effector plane, ties within tie-tolerance going to the point "
+                 "farthest from the hand") +
            "; on the symmetry plane the frame chose: " + frame.symmetry_plane_rule},
       {"alternatives", alternatives},
       {"diagnostics",
@@ -257,8 +273,10 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
         {"candidates", tooltip.candidates},
         {"rejected_sparse", tooltip.rejected_sparse},
         {"density", {{"radius", config.density_radius}, {"min_neighbors", config.min_neighbors}}},
-        {"edge", {{"retreat_m", tooltip.edge_retreat_m}, {"radius", config.tip_edge_radius},
-                  {"fringe_depth", config.fringe_depth}}}}},
+        {"edge",
+         {{"retreat_m", tooltip.edge_retreat_m},
+          {"radius", config.tip_edge_radius},
+          {"fringe_depth", config.fringe_depth}}}}},
   };
 }
 
@@ -277,9 +295,10 @@ Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult
                      {"accepted", m.accepted},
                      {"reason", m.reason},
                      {"points", m.points},
-                     {"correction", {{"matrix", to_json(m.correction)},
-                                     {"translation_m", {m.translation_m[0], m.translation_m[1], m.translation_m[2]}},
-                                     {"rotation_deg", m.rotation_deg}}},
+                     {"correction",
+                      {{"matrix", to_json(m.correction)},
+                       {"translation_m", {m.translation_m[0], m.translation_m[1], m.translation_m[2]}},
+                       {"rotation_deg", m.rotation_deg}}},
                      {"inlier_ratio", m.inlier_ratio},
                      {"inlier_rmse_m", m.inlier_rmse},
                      {"iterations", m.iterations}});

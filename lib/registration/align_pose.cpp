@@ -117,8 +117,8 @@ std::vector<HandleGuess> view_handle_guesses(const ToolFrame& frame, const Point
   const int directions = 6;
   for (int k = 0; k < directions; ++k) {
     const Vec3 tilt_axis = Eigen::AngleAxisd(2.0 * M_PI * k / directions, axis) * around.col(0);
-    guesses.push_back({axes_with_handle(Eigen::AngleAxisd(config.fallback_cone_deg * kDeg, tilt_axis) * axis),
-                       Vec3::Zero()});
+    guesses.push_back(
+        {axes_with_handle(Eigen::AngleAxisd(config.fallback_cone_deg * kDeg, tilt_axis) * axis), Vec3::Zero()});
   }
   return guesses;
 }
@@ -135,8 +135,8 @@ std::vector<Pose> frame_hypotheses(const HandleGuess& model_handle, const Points
   for (const auto& view_handle : view_handles) {
     const Vec3 view_anchor = view_handle.at(extent_along(view_points, view_handle.axis(), kEndShare).first);
     for (const bool reversed : {false, true}) {
-      const Eigen::Matrix3d flip = reversed ? Eigen::Matrix3d(Eigen::AngleAxisd(M_PI, Vec3::UnitZ()))
-                                            : Eigen::Matrix3d::Identity();
+      const Eigen::Matrix3d flip =
+          reversed ? Eigen::Matrix3d(Eigen::AngleAxisd(M_PI, Vec3::UnitZ())) : Eigen::Matrix3d::Identity();
       const Vec3 model_anchor = model_handle.at(reversed ? model_near : model_far);
       for (int k = 0; k < rolls; ++k) {
         const Eigen::Matrix3d roll(Eigen::AngleAxisd(2.0 * M_PI * k / rolls, Vec3::UnitY()));
@@ -165,7 +165,8 @@ double pose_score(const PoseModel& model, const Points& view, const std::vector<
                   const Pose& model_from_view, const AlignPoseConfig& config) {
   const double excess =
       std::max(0.0, std::abs(far_end_gap(model, view, model_from_view)) - config.slide_margin) / config.slide_margin;
-  return weighted_fit(model.target, view, weights, model_from_view, config.score_sigma) * std::exp(-0.5 * excess * excess);
+  return weighted_fit(model.target, view, weights, model_from_view, config.score_sigma) *
+         std::exp(-0.5 * excess * excess);
 }
 
 bool same_pose(const Pose& a, const Pose& b, const AlignPoseConfig& config) {
@@ -204,7 +205,8 @@ std::vector<Scored> best_hypotheses(const PoseModel& model, const Points& view,
   };
   std::vector<Scored> chosen(scored.begin(), scored.begin() + static_cast<std::ptrdiff_t>(keep));
   const std::size_t feasible_wanted = keep / 2;
-  std::size_t feasible_kept = static_cast<std::size_t>(std::count_if(chosen.begin(), chosen.end(), feasible_hypothesis));
+  std::size_t feasible_kept =
+      static_cast<std::size_t>(std::count_if(chosen.begin(), chosen.end(), feasible_hypothesis));
   for (std::size_t i = keep; i < scored.size() && feasible_kept < feasible_wanted; ++i)
     if (feasible_hypothesis(scored[i])) chosen.push_back(scored[i]), ++feasible_kept;
   scored = std::move(chosen);
@@ -271,8 +273,7 @@ Pose pin_far_end(const PoseModel& model, const Points& view, const std::vector<d
 }  // namespace
 
 PoseModel::PoseModel(const Points& canonical, const AlignPoseConfig& config)
-    : target(voxel_downsample(canonical, config.model_voxel)),
-      frame(estimate_tool_frame(canonical, [&] {
+    : target(voxel_downsample(canonical, config.model_voxel)), frame(estimate_tool_frame(canonical, [&] {
         ToolFrameConfig frame_config;
         frame_config.hand_radius = config.hand_radius;
         return frame_config;
@@ -310,13 +311,15 @@ Feasibility check_feasibility(const Eigen::Matrix4d& hand_from_model, const Alig
 std::string unit_mismatch(const Points& model, const Points& view, double max_extent_ratio) {
   const double model_extent = bbox_diagonal(model), view_extent = bbox_diagonal(view);
   if (model_extent > max_extent_ratio * view_extent)
-    return fmt::format("the model is {:.0f} times larger than the view (extent {:.4g} against {:.4g}): is the "
-                       "model in millimetres? Both must be in metres",
-                       model_extent / view_extent, model_extent, view_extent);
+    return fmt::format(
+        "the model is {:.0f} times larger than the view (extent {:.4g} against {:.4g}): is the "
+        "model in millimetres? Both must be in metres",
+        model_extent / view_extent, model_extent, view_extent);
   if (view_extent > max_extent_ratio * model_extent)
-    return fmt::format("the view is {:.0f} times larger than the model (extent {:.4g} against {:.4g}): is the "
-                       "view in millimetres? Both must be in metres",
-                       view_extent / model_extent, view_extent, model_extent);
+    return fmt::format(
+        "the view is {:.0f} times larger than the model (extent {:.4g} against {:.4g}): is the "
+        "view in millimetres? Both must be in metres",
+        view_extent / model_extent, view_extent, model_extent);
   return {};
 }
 
@@ -332,10 +335,10 @@ PoseResult align_pose(const PoseModel& model, const Points& view, const AlignPos
   const Points points = prepare_view(view, config);
   result.view_points_used = static_cast<int>(points.size());
   if (result.view_points_used < config.min_view_points)
-    throw MethodError(fmt::format("too few view points: {} of {} remain outside the hand ({} m) at {} m "
-                                  "resampling; at least {} are needed",
-                                  points.size(), view.size(), config.hand_radius, config.view_voxel,
-                                  config.min_view_points));
+    throw MethodError(
+        fmt::format("too few view points: {} of {} remain outside the hand ({} m) at {} m "
+                    "resampling; at least {} are needed",
+                    points.size(), view.size(), config.hand_radius, config.view_voxel, config.min_view_points));
   ToolFrameConfig frame_config;
   frame_config.hand_radius = config.hand_radius;
   const std::vector<HandleGuess> view_handles =
@@ -354,8 +357,7 @@ PoseResult align_pose(const PoseModel& model, const Points& view, const AlignPos
   for (const auto& hypothesis : hypotheses) {
     IcpResult icp = align_point_to_plane(points, model.target, hypothesis.model_from_view, config.icp);
     const Pose pinned = pin_far_end(model, coarse, coarse_weights, icp.target_from_source, config);
-    if (!pinned.isApprox(icp.target_from_source))
-      icp = align_point_to_plane(points, model.target, pinned, config.icp);
+    if (!pinned.isApprox(icp.target_from_source)) icp = align_point_to_plane(points, model.target, pinned, config.icp);
     PoseCandidate c;
     c.hand_from_model = inverse(icp.target_from_source);
     c.score = pose_score(model, points, weights, icp.target_from_source, config);

@@ -14,8 +14,8 @@ namespace toolinc {
 namespace {
 
 int accepted_views(const MergeResult& result) {
-  return static_cast<int>(std::count_if(result.views.begin(), result.views.end(),
-                                        [](const ViewMerge& v) { return v.accepted; }));
+  return static_cast<int>(
+      std::count_if(result.views.begin(), result.views.end(), [](const ViewMerge& v) { return v.accepted; }));
 }
 
 // Every view aligned in turn onto the growing model that starts as the first view.
@@ -25,7 +25,14 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
                                   config.min_points));
   MergeResult result;
   Points accumulated = views[0].points;
-  result.views.push_back({true, "reference", Eigen::Matrix4d::Identity(), {0, 0, 0}, 0.0, 1.0, 0.0, 0,
+  result.views.push_back({true,
+                          "reference",
+                          Eigen::Matrix4d::Identity(),
+                          {0, 0, 0},
+                          0.0,
+                          1.0,
+                          0.0,
+                          0,
                           static_cast<int>(views[0].points.size())});
   const auto report_progress = [&] {
     if (config.progress) config.progress(result.views.size(), views.size());
@@ -51,9 +58,11 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
     merge.iterations = icp.iterations;
     const double worst_axis = icp.target_from_source.topRightCorner<3, 1>().cwiseAbs().maxCoeff();
     if (worst_axis > config.max_translation)
-      merge.reason = fmt::format("correction of {:.3f} m along an axis exceeds {} m", worst_axis, config.max_translation);
+      merge.reason =
+          fmt::format("correction of {:.3f} m along an axis exceeds {} m", worst_axis, config.max_translation);
     else if (merge.rotation_deg > config.max_rotation_deg)
-      merge.reason = fmt::format("correction of {:.1f} deg exceeds {} deg", merge.rotation_deg, config.max_rotation_deg);
+      merge.reason =
+          fmt::format("correction of {:.1f} deg exceeds {} deg", merge.rotation_deg, config.max_rotation_deg);
     else if (icp.inlier_ratio < config.min_inlier_ratio)
       merge.reason = fmt::format("only {:.0f}% of the view lands on the model after alignment (min {:.0f}%)",
                                  100 * icp.inlier_ratio, 100 * config.min_inlier_ratio);
@@ -89,12 +98,13 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
   mean_frame.topRightCorner<3, 1>() = translation_sum / accepted;
   result.hand_from_reference = inverse(mean_frame);
   result.model.frame = "hand";
-  result.model.points = remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference),
-                                                         config.voxel_size),
-                                        config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
+  result.model.points =
+      remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference), config.voxel_size),
+                      config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
   for (std::size_t v = 0; v < views.size(); ++v)
     if (result.views[v].accepted) {
-      const Points moved = transform_points(views[v].viewpoints, result.hand_from_reference * result.views[v].correction);
+      const Points moved =
+          transform_points(views[v].viewpoints, result.hand_from_reference * result.views[v].correction);
       result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());
     }
   return result;

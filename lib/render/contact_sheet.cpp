@@ -50,7 +50,8 @@ cv::Mat scaled(const cv::Mat& image, const cv::Size& size, int interpolation) {
   return out;
 }
 
-cv::Mat left_panel(const ViewRecord& record, const cv::Mat& left, const cv::Mat& mask, double scale, const cv::Size& size) {
+cv::Mat left_panel(const ViewRecord& record, const cv::Mat& left, const cv::Mat& mask, double scale,
+                   const cv::Size& size) {
   cv::Mat panel = scaled(left, size, cv::INTER_AREA);
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
@@ -76,13 +77,14 @@ cv::Mat disparity_panel(const cv::Mat& disparity, const cv::Size& size) {
   cv::applyColorMap(disparity, coloured, cv::COLORMAP_TURBO);
   coloured.setTo(cv::Scalar(0, 0, 0), disparity == 0);
   cv::Mat panel = scaled(coloured, size, cv::INTER_NEAREST);
-  draw_label(panel, fmt::format("disparity: {:.0f}% valid", 100.0 * cv::countNonZero(disparity) / disparity.total()), 0);
+  draw_label(panel, fmt::format("disparity: {:.0f}% valid", 100.0 * cv::countNonZero(disparity) / disparity.total()),
+             0);
   return panel;
 }
 
 // Hand-frame points projected with the view's recorded poses over a dimmed grey copy of the left image.
-cv::Mat crop_panel(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
-                   const CropConfig& config, double scale, const cv::Size& size) {
+cv::Mat crop_panel(const SessionInfo& session, const ViewRecord& record, const ViewData& view, const CropConfig& config,
+                   double scale, const cv::Size& size) {
   cv::Mat grey, panel;
   cv::cvtColor(view.left, grey, cv::COLOR_BGR2GRAY);
   cv::cvtColor(scaled(grey, size, cv::INTER_AREA) * 0.45, panel, cv::COLOR_GRAY2BGR);
@@ -101,8 +103,10 @@ cv::Mat crop_panel(const SessionInfo& session, const ViewRecord& record, const V
     cv::Point at;
     for (const auto& p : crop.cloud.points)
       if (pixel(p, at)) cv::rectangle(panel, at, at + cv::Point(dot - 1, dot - 1), kSheetCropPoint, -1, cv::LINE_8);
-    draw_label(panel, fmt::format("{} points kept ({})", crop.cloud.size(),
-                                  crop.points_source == "points.pcd" ? "points.pcd" : "disparity, approx."), 0);
+    draw_label(panel,
+               fmt::format("{} points kept ({})", crop.cloud.size(),
+                           crop.points_source == "points.pcd" ? "points.pcd" : "disparity, approx."),
+               0);
   } catch (const MethodError& e) {
     const auto lines = wrap(e.what(), static_cast<std::size_t>(std::max(10, size.width / 8)));
     for (std::size_t i = 0; i < lines.size(); ++i)
@@ -139,9 +143,9 @@ cv::Mat render_contact_sheet(const std::string& session_dir, const ContactSheetO
   cv::Mat sheet(layout.y(views) - layout.caption, layout.x(3), CV_8UC3, cv::Scalar(255, 255, 255));
 
   const std::string name = std::filesystem::path(session_dir).lexically_normal().filename().string();
-  draw_text(sheet, fmt::format("{}: {} hand, tool {}, {} views, {} x {}", name.empty() ? session_dir : name,
-                               session.hand, session.tool_label.value_or("unlabelled"), views, session.camera.width,
-                               session.camera.height),
+  draw_text(sheet,
+            fmt::format("{}: {} hand, tool {}, {} views, {} x {}", name.empty() ? session_dir : name, session.hand,
+                        session.tool_label.value_or("unlabelled"), views, session.camera.width, session.camera.height),
             {layout.gap, 20}, 0.55, kInk);
   const char* titles[] = {"left image, blob outline and box", "disparity (8-bit, colour map)",
                           "cropped cloud, projected"};
@@ -151,7 +155,8 @@ cv::Mat render_contact_sheet(const std::string& session_dir, const ContactSheetO
     const ViewRecord& record = session.views[v];
     const ViewData view = read_view(session_dir, session, v);
     const cv::Mat mask = view.blob.empty() ? closest_blob_mask(view.disparity, options.crop.blob) : view.blob;
-    draw_text(sheet, fmt::format("{}  wrist ({:.0f}, {:.0f}) deg", record.dir, record.wrist_deg.x(), record.wrist_deg.y()),
+    draw_text(sheet,
+              fmt::format("{}  wrist ({:.0f}, {:.0f}) deg", record.dir, record.wrist_deg.x(), record.wrist_deg.y()),
               {layout.x(0), layout.y(v) - 6}, 0.45, kInk);
     const cv::Mat panels[] = {left_panel(record, view.left, mask, scale, panel_size),
                               disparity_panel(view.disparity, panel_size),

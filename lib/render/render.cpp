@@ -4,9 +4,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "toolinc/core/error.hpp"
 
@@ -62,14 +62,14 @@ std::array<View, kRenderPanelCount> views() {
 
 struct PanelLayout {
   View view;
-  cv::Rect rect;        // in the whole image
-  cv::Point2d centre;   // panel-local pixel of the scene centre
-  Vec3 scene_centre;    // view coordinates of the scene's bounding-box centre
+  cv::Rect rect;       // in the whole image
+  cv::Point2d centre;  // panel-local pixel of the scene centre
+  Vec3 scene_centre;   // view coordinates of the scene's bounding-box centre
 };
 
 struct Layout {
   std::array<PanelLayout, kRenderPanelCount> panels;
-  double scale = 1.0;   // pixels per metre, shared by every panel
+  double scale = 1.0;  // pixels per metre, shared by every panel
   cv::Rect legend;
 };
 
@@ -106,7 +106,7 @@ Layout make_layout(const RenderScene& scene, const RenderOptions& options) {
   const int pw = options.width / 2, ph = (options.height - options.legend_height) / 2;
   // XY above XZ (shared x), YZ beside XZ (shared z), oblique top right.
   const std::array<cv::Point, kRenderPanelCount> corners = {cv::Point(0, 0), cv::Point(0, ph), cv::Point(pw, ph),
-                                                           cv::Point(pw, 0)};
+                                                            cv::Point(pw, 0)};
   const Points extent = scene_extent_points(scene, options);
   Vec3 lo = extent.front(), hi = extent.front();
   for (const auto& p : extent) {
@@ -220,8 +220,10 @@ void draw_hand_axes_gizmo(cv::Mat& roi, const PanelLayout& panel) {
     const Vec3 d = panel.view.rows.col(a);
     if (std::hypot(d.x(), d.y()) < 0.15) {
       // Along the line of sight: a dot (towards the viewer) or a cross (away).
-      if (d.z() > 0) cv::circle(roi, anchor, 3, kFaint, -1, cv::LINE_AA);
-      else cv::drawMarker(roi, anchor, kFaint, cv::MARKER_TILTED_CROSS, 8, 1, cv::LINE_AA);
+      if (d.z() > 0)
+        cv::circle(roi, anchor, 3, kFaint, -1, cv::LINE_AA);
+      else
+        cv::drawMarker(roi, anchor, kFaint, cv::MARKER_TILTED_CROSS, 8, 1, cv::LINE_AA);
       draw_text(roi, names[a], anchor + cv::Point(-14, 14), 0.45, kFaint);
       continue;
     }
@@ -318,11 +320,20 @@ void draw_legend(cv::Mat& image, const Layout& layout, const RenderScene& scene)
     const cv::Point mid = at + cv::Point(8, 9);
     const Entry& e = entries[i];
     switch (e.kind) {
-      case 0: cv::rectangle(roi, at + cv::Point(1, 2), at + cv::Point(15, 16), e.colour, -1, cv::LINE_8); break;
-      case 1: cv::line(roi, at + cv::Point(0, 9), at + cv::Point(16, 9), e.colour, 3, cv::LINE_8); break;
-      case 2: draw_tooltip_marker(roi, mid, 5); break;
-      case 3: draw_hand_marker(roi, mid, 6); break;
-      default: break;
+      case 0:
+        cv::rectangle(roi, at + cv::Point(1, 2), at + cv::Point(15, 16), e.colour, -1, cv::LINE_8);
+        break;
+      case 1:
+        cv::line(roi, at + cv::Point(0, 9), at + cv::Point(16, 9), e.colour, 3, cv::LINE_8);
+        break;
+      case 2:
+        draw_tooltip_marker(roi, mid, 5);
+        break;
+      case 3:
+        draw_hand_marker(roi, mid, 6);
+        break;
+      default:
+        break;
     }
     draw_text(roi, e.text, at + cv::Point(26, 14), 0.45, kInk);
   }
@@ -332,10 +343,14 @@ void draw_legend(cv::Mat& image, const Layout& layout, const RenderScene& scene)
 
 std::string to_string(RenderPanel panel) {
   switch (panel) {
-    case RenderPanel::xy: return "xy";
-    case RenderPanel::xz: return "xz";
-    case RenderPanel::yz: return "yz";
-    case RenderPanel::oblique: return "oblique";
+    case RenderPanel::xy:
+      return "xy";
+    case RenderPanel::xz:
+      return "xz";
+    case RenderPanel::yz:
+      return "yz";
+    case RenderPanel::oblique:
+      return "oblique";
   }
   return "?";
 }

@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "toolinc/core/error.hpp"
-#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/results_json.hpp"
 
 namespace toolinc {
@@ -36,7 +36,8 @@ std::string required_file(const fs::path& dir, const std::string& name, const st
   const fs::path path = dir / name;
   if (!fs::is_regular_file(path))
     throw InputError(path.string(), fmt::format("missing (made by {}; see `report --help` for what the folder "
-                                                "holds)", made_by));
+                                                "holds)",
+                                                made_by));
   return path.string();
 }
 
@@ -125,9 +126,10 @@ p.summary { font-size: 1.1em; } p.note { color: #666; font-size: 0.9em; }
 std::string merge_section(const SessionReport& r) {
   std::string html = "<h2>Merge</h2>\n";
   if (!r.merge_failure.empty()) html += "<p class=\"failure\">The merge failed: " + e(r.merge_failure) + "</p>\n";
-  html += "<table id=\"merge\">\n<thead><tr><th>#</th><th class=\"text\">view</th><th class=\"text\">status</th>"
-          "<th>points</th><th>correction x (mm)</th><th>y (mm)</th><th>z (mm)</th><th>rotation (deg)</th>"
-          "<th>on the model (%)</th><th>RMS (mm)</th><th class=\"text\">why</th></tr></thead>\n<tbody>\n";
+  html +=
+      "<table id=\"merge\">\n<thead><tr><th>#</th><th class=\"text\">view</th><th class=\"text\">status</th>"
+      "<th>points</th><th>correction x (mm)</th><th>y (mm)</th><th>z (mm)</th><th>rotation (deg)</th>"
+      "<th>on the model (%)</th><th>RMS (mm)</th><th class=\"text\">why</th></tr></thead>\n<tbody>\n";
   for (std::size_t i = 0; i < r.views.size(); ++i) {
     const ReportView& v = r.views[i];
     const char* status = v.accepted ? "accepted" : "rejected";
@@ -135,60 +137,66 @@ std::string merge_section(const SessionReport& r) {
         "<tr class=\"{}\"><td>{}</td><td class=\"text\" title=\"{}\">{}</td><td class=\"text status\">{}</td>"
         "<td>{}</td>{}<td>{:.2f}</td><td>{:.1f}</td><td>{:.2f}</td><td class=\"text\">{}</td></tr>\n",
         status, i, e(v.file), e(fs::path(v.file).filename().string()), status, v.points,
-        vector_cells(1000.0 * v.translation_m, 1), v.rotation_deg, 100.0 * v.inlier_ratio,
-        1000.0 * v.inlier_rmse_m, e(v.reason));
+        vector_cells(1000.0 * v.translation_m, 1), v.rotation_deg, 100.0 * v.inlier_ratio, 1000.0 * v.inlier_rmse_m,
+        e(v.reason));
   }
   return html + "</tbody>\n</table>\n" +
-         fmt::format("<p class=\"note\">The model has {} points (2 mm grid) in the hand frame estimated as the mean "
-                     "of the accepted views' frames. A correction is the view's model_from_view transform found by "
-                     "ICP.</p>\n",
-                     r.model_points);
+         fmt::format(
+             "<p class=\"note\">The model has {} points (2 mm grid) in the hand frame estimated as the mean "
+             "of the accepted views' frames. A correction is the view's model_from_view transform found by "
+             "ICP.</p>\n",
+             r.model_points);
 }
 
 std::string frame_section(const SessionReport& r) {
-  std::string html = "<h2>Tool frame</h2>\n<table id=\"frame\">\n<thead><tr><th class=\"text\"></th><th>x</th>"
-                     "<th>y</th><th>z</th></tr></thead>\n<tbody>\n";
+  std::string html =
+      "<h2>Tool frame</h2>\n<table id=\"frame\">\n<thead><tr><th class=\"text\"></th><th>x</th>"
+      "<th>y</th><th>z</th></tr></thead>\n<tbody>\n";
   const char* rows[] = {"X effector axis", "Y handle axis", "Z symmetry axis"};
   html += "<tr><td class=\"text\">origin (m)</td>" + vector_cells(r.frame.origin, 4) + "</tr>\n";
   for (int a = 0; a < 3; ++a)
-    html += fmt::format("<tr><td class=\"text\">{}</td>{}</tr>\n", rows[a],
-                        vector_cells(r.frame.axes.col(a), 4));
+    html += fmt::format("<tr><td class=\"text\">{}</td>{}</tr>\n", rows[a], vector_cells(r.frame.axes.col(a), 4));
   html += "</tbody>\n</table>\n";
   std::string notes;
-  if (r.salient_effector) notes += *r.salient_effector ? "Salient effector: yes. " : "Salient effector: no (the "
-                                                                                     "effector's sign is a guess). ";
+  if (r.salient_effector)
+    notes += *r.salient_effector ? "Salient effector: yes. "
+                                 : "Salient effector: no (the "
+                                   "effector's sign is a guess). ";
   if (r.symmetry_score) notes += fmt::format("Symmetry score {:.3f} (0 perfect mirror, 1 none).", *r.symmetry_score);
   if (!notes.empty()) html += "<p class=\"note\">" + e(notes) + "</p>\n";
   return html;
 }
 
 std::string tooltip_section(const SessionReport& r) {
-  std::string html = "<h2>Tooltip</h2>\n<table id=\"tooltip\">\n<thead><tr><th class=\"text\"></th><th>x</th>"
-                     "<th>y</th><th>z</th></tr></thead>\n<tbody>\n";
+  std::string html =
+      "<h2>Tooltip</h2>\n<table id=\"tooltip\">\n<thead><tr><th class=\"text\"></th><th>x</th>"
+      "<th>y</th><th>z</th></tr></thead>\n<tbody>\n";
   html += "<tr><td class=\"text\">position, hand frame (m)</td>" + vector_cells(r.tooltip, 4) + "</tr>\n";
   html += "<tr><td class=\"text\">position, tool frame (m)</td>" + vector_cells(r.tooltip_in_tool, 4) + "</tr>\n";
   html += "</tbody>\n</table>\n";
   const Eigen::Vector4d& aa = r.attach_axis_angle;
-  return html + fmt::format("<p>attachTipFrame: position ({:.4f}, {:.4f}, {:.4f}) m, axis-angle <span "
-                            "id=\"axis-angle\">{:.4f} {:.4f} {:.4f} {:.4f}</span> (axis, angle in rad).</p>\n",
-                            r.tooltip.x(), r.tooltip.y(), r.tooltip.z(), aa[0], aa[1], aa[2], aa[3]);
+  return html + fmt::format(
+                    "<p>attachTipFrame: position ({:.4f}, {:.4f}, {:.4f}) m, axis-angle <span "
+                    "id=\"axis-angle\">{:.4f} {:.4f} {:.4f} {:.4f}</span> (axis, angle in rad).</p>\n",
+                    r.tooltip.x(), r.tooltip.y(), r.tooltip.z(), aa[0], aa[1], aa[2], aa[3]);
 }
 
 std::string errors_section(const SessionReport& r) {
   std::string html = "<h2>Errors against the ground truth</h2>\n";
-  if (!r.errors)
-    return html + "<p class=\"note\">No ground truth (no evaluation.json: a recorded session).</p>\n";
+  if (!r.errors) return html + "<p class=\"note\">No ground truth (no evaluation.json: a recorded session).</p>\n";
   const ReportErrors& x = *r.errors;
   html += "<table id=\"errors\">\n<tbody>\n";
   const auto row = [&](const char* name, const std::optional<double>& value, double scale, int decimals) {
-    if (value) html += fmt::format("<tr><td class=\"text\">{}</td><td>{:.{}f}</td></tr>\n", name, scale * *value, decimals);
+    if (value)
+      html += fmt::format("<tr><td class=\"text\">{}</td><td>{:.{}f}</td></tr>\n", name, scale * *value, decimals);
   };
   row("tooltip (mm)", x.tooltip_m, 1000.0, 1);
   row("handle axis (deg)", x.handle_axis_deg, 1.0, 2);
   row("effector axis (deg)", x.effector_axis_deg, 1.0, 2);
   row("frame origin (mm)", x.origin_m, 1000.0, 1);
   if (x.right_handed)
-    html += fmt::format("<tr><td class=\"text\">right-handed frame</td><td>{}</td></tr>\n", *x.right_handed ? "yes" : "no");
+    html +=
+        fmt::format("<tr><td class=\"text\">right-handed frame</td><td>{}</td></tr>\n", *x.right_handed ? "yes" : "no");
   return html + "</tbody>\n</table>\n";
 }
 
@@ -220,12 +228,16 @@ std::string report_html(const SessionReport& r) {
   for (const auto& v : r.views) accepted += v.accepted;
   std::string summary = fmt::format("{} of {} views merged; tooltip ({:.4f}, {:.4f}, {:.4f}) m in the hand frame",
                                     accepted, r.views.size(), r.tooltip.x(), r.tooltip.y(), r.tooltip.z());
-  if (r.errors && r.errors->tooltip_m) summary += fmt::format(", {:.1f} mm from the true tooltip", 1000.0 * *r.errors->tooltip_m);
-  std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>toolinc: " + e(r.name) +
-                     "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
+  if (r.errors && r.errors->tooltip_m)
+    summary += fmt::format(", {:.1f} mm from the true tooltip", 1000.0 * *r.errors->tooltip_m);
+  std::string html =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>toolinc: " + e(r.name) +
+      "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
   html += "<h1>Session " + e(r.name) + "</h1>\n<p class=\"summary\">" + e(summary) + ".</p>\n";
-  html += "<h2>Model, tool frame and tooltip</h2>\n<img id=\"model\" alt=\"the merged model with its tool frame and "
-          "tooltip\" src=\"" + data_uri(r.model_png) + "\">\n";
+  html +=
+      "<h2>Model, tool frame and tooltip</h2>\n<img id=\"model\" alt=\"the merged model with its tool frame and "
+      "tooltip\" src=\"" +
+      data_uri(r.model_png) + "\">\n";
   html += merge_section(r) + frame_section(r) + tooltip_section(r) + errors_section(r);
   html += "<h2>Views</h2>\n<img id=\"sheet\" alt=\"contact sheet of the session's views\" src=\"" +
           data_uri(r.sheet_png) + "\">\n";
@@ -237,12 +249,23 @@ std::string html_escape(const std::string& text) {
   std::string out;
   out.reserve(text.size());
   for (char c : text) switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   return out;
 }
@@ -254,8 +277,7 @@ std::string base64_encode(const std::string& bytes) {
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
     const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
     std::uint32_t chunk = 0;
-    for (std::size_t k = 0; k < 3; ++k)
-      chunk = chunk << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 3; ++k) chunk = chunk << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
     for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(chunk >> (18 - 6 * k)) & 63] : '=';
   }
   return out;

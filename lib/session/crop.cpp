@@ -35,7 +35,8 @@ cv::Mat flood_3d(const cv::Mat& mask, const std::vector<Vec3>& root_points, doub
   long best = std::numeric_limits<long>::max();
   for (int i = 0; i < w * h; ++i)
     if (valid(i)) {
-      const long d = static_cast<long>(i % w - centre.x) * (i % w - centre.x) + static_cast<long>(i / w - centre.y) * (i / w - centre.y);
+      const long d = static_cast<long>(i % w - centre.x) * (i % w - centre.x) +
+                     static_cast<long>(i / w - centre.y) * (i / w - centre.y);
       if (d < best) best = d, seed = i;
     }
   cv::Mat grown = cv::Mat::zeros(mask.size(), CV_8UC1);
@@ -124,7 +125,8 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
     root_points.resize(static_cast<std::size_t>(w) * h);
     for (int v = 0; v < h; ++v)
       for (int u = 0; u < w; ++u)
-        root_points[v * w + u] = reproject_disparity(camera, record.root_from_camera, u, v, view.disparity.at<std::uint8_t>(v, u));
+        root_points[v * w + u] =
+            reproject_disparity(camera, record.root_from_camera, u, v, view.disparity.at<std::uint8_t>(v, u));
     result.points_source = "disparity reprojection (approximate)";
   }
   if (config.edge_radius_px > 0) {
@@ -166,10 +168,11 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   }
   result.cloud.viewpoints.push_back(rotation * record.root_from_camera.topRightCorner<3, 1>() + translation);
   if (static_cast<int>(result.cloud.size()) < config.min_points)
-    throw MethodError(fmt::format("{}: only {} tool points left after cropping (mask {} px, 3D {}, in box {}, "
-                                  "outside the hand {}), at least {} needed",
-                                  record.dir, result.cloud.size(), result.mask_pixels, result.points_3d, result.in_box,
-                                  result.outside_hand, config.min_points));
+    throw MethodError(
+        fmt::format("{}: only {} tool points left after cropping (mask {} px, 3D {}, in box {}, "
+                    "outside the hand {}), at least {} needed",
+                    record.dir, result.cloud.size(), result.mask_pixels, result.points_3d, result.in_box,
+                    result.outside_hand, config.min_points));
   return result;
 }
 

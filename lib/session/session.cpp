@@ -6,17 +6,17 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <filesystem>
-#include <set>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <stdexcept>
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/atomic_file.hpp"
-#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/io/pcd_write.hpp"
+#include "toolinc/io/read_file.hpp"
 #include "toolinc/io/run_inputs.hpp"
 #include "toolinc/session/image_decode.hpp"
 
@@ -97,7 +97,8 @@ void check_inside_session(const std::string& dir, const std::string& session_fil
   bool escapes = dir.empty() || path.has_root_name() || path.has_root_directory();
   for (const auto& part : path) escapes = escapes || part == "..";
   if (escapes)
-    throw InputError(session_file, fmt::format("view folder \"{}\" is not a relative path inside the session folder", dir));
+    throw InputError(session_file,
+                     fmt::format("view folder \"{}\" is not a relative path inside the session folder", dir));
 }
 
 // The same check once links are followed: a view folder or an image linked to another session is
@@ -172,8 +173,8 @@ cv::Mat read_png(const fs::path& session_dir, const fs::path& dir, const std::st
   if (image.empty()) throw InputError(where, name + " is not a readable PNG");
   if (image.depth() != CV_8U) throw InputError(where, name + " must be 8-bit");
   if (image.cols != camera.width || image.rows != camera.height)
-    throw InputError(where, fmt::format("{} is {}x{}, the camera is {}x{}", name, image.cols, image.rows,
-                                        camera.width, camera.height));
+    throw InputError(where, fmt::format("{} is {}x{}, the camera is {}x{}", name, image.cols, image.rows, camera.width,
+                                        camera.height));
   return is_colour ? colour(image) : single_channel(image, where, name);
 }
 
@@ -182,7 +183,9 @@ void write_png(const fs::path& path, const cv::Mat& image) {
   if (!cv::imencode(".png", image, bytes)) throw InputError(path.string(), "cannot encode PNG");
   write_file_atomic(
       path.string(),
-      [&](std::ostream& out) { out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())); },
+      [&](std::ostream& out) {
+        out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      },
       true);
 }
 
@@ -221,8 +224,14 @@ Json session_json(const SessionInfo& s) {
           {"hand", s.hand},
           {"tool_label", s.tool_label ? Json(*s.tool_label) : Json(nullptr)},
           {"camera",
-           {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy},
-            {"num_disparities", c.num_disparities}, {"baseline", c.baseline}}},
+           {{"width", c.width},
+            {"height", c.height},
+            {"fx", c.fx},
+            {"fy", c.fy},
+            {"cx", c.cx},
+            {"cy", c.cy},
+            {"num_disparities", c.num_disparities},
+            {"baseline", c.baseline}}},
           {"views", views},
           {"created", s.created},
           {"recorder", {{"name", s.recorder_name}, {"version", s.recorder_version}}},
@@ -238,7 +247,8 @@ SessionInfo read_session(const std::string& session_dir) {
   note_input_folder(session_dir);
   const Json json = read_json(resolved_inside(file, session_dir).string());
   if (!json.is_object()) throw InputError(file, "expected a JSON object");
-  const std::string format = json.contains("format") && json["format"].is_string() ? json["format"].get<std::string>() : "";
+  const std::string format =
+      json.contains("format") && json["format"].is_string() ? json["format"].get<std::string>() : "";
   if (format != kFormat) throw InputError(file, fmt::format("format is \"{}\", expected \"{}\"", format, kFormat));
   const Json& version = field(json, "version", file);
   if (!version.is_number_integer() || version.get<int>() != kSessionFormatVersion)
@@ -249,7 +259,8 @@ SessionInfo read_session(const std::string& session_dir) {
   session.hand = string_field(json, "hand", file);
   if (session.hand != "left" && session.hand != "right")
     throw InputError(file, fmt::format("hand must be \"left\" or \"right\" (found \"{}\")", session.hand));
-  if (json.contains("tool_label") && !json["tool_label"].is_null()) session.tool_label = string_field(json, "tool_label", file);
+  if (json.contains("tool_label") && !json["tool_label"].is_null())
+    session.tool_label = string_field(json, "tool_label", file);
   session.camera = camera_from_json(field(json, "camera", file), file);
   session.created = optional_text(json, "created", file);
   session.notes = optional_text(json, "notes", file);
@@ -279,8 +290,8 @@ ViewData read_view(const std::string& session_dir, const SessionInfo& session, s
   data.disparity = read_png(session_dir, dir, "disparity.png", false, camera, Required::yes);
   data.blob = read_png(session_dir, dir, "blob.png", false, camera, Required::no);
   if (fs::exists(dir / "points.pcd"))
-    data.points = read_organised_pcd(resolved_inside(dir / "points.pcd", session_dir).string(), camera.width,
-                                     camera.height);
+    data.points =
+        read_organised_pcd(resolved_inside(dir / "points.pcd", session_dir).string(), camera.width, camera.height);
   return data;
 }
 
@@ -303,7 +314,8 @@ void write_session_json(const std::string& session_dir, const SessionInfo& sessi
 void write_session(const std::string& session_dir, const SessionInfo& session, const std::vector<ViewData>& views,
                    const nlohmann::ordered_json& ground_truth) {
   if (views.size() != session.views.size())
-    throw std::invalid_argument(fmt::format("write_session: {} views listed, {} given", session.views.size(), views.size()));
+    throw std::invalid_argument(
+        fmt::format("write_session: {} views listed, {} given", session.views.size(), views.size()));
   fs::path target = fs::path(session_dir).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();  // "out/" -> "out"
   std::error_code ec;

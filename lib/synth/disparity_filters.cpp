@@ -85,8 +85,7 @@ void adaptive_mean(cv::Mat& disparity) {
   cv::Mat input = disparity.clone();
   input.setTo(kNoDisparity, input < 0);  // invalid values far below every valid one weigh nothing
   cv::Mat rows = input.clone();
-  for (int v = 0; v < height; ++v)
-    mean_line(input.ptr<float>(v), rows.ptr<float>(v), width, 1);
+  for (int v = 0; v < height; ++v) mean_line(input.ptr<float>(v), rows.ptr<float>(v), width, 1);
   cv::Mat columns = rows.clone();
   for (int u = 0; u < width; ++u) mean_line(rows.ptr<float>() + u, columns.ptr<float>() + u, height, width);
   disparity = columns;

@@ -17,11 +17,11 @@ namespace toolinc {
 namespace {
 
 constexpr int kDescriptorBytes = 16;
-constexpr int kSupportStep = 2;     // the support cost reads the descriptors at (u +/- 2, v +/- 2)
-constexpr int kSupportBorder = 5;   // px a support candidate keeps from the image's border
+constexpr int kSupportStep = 2;       // the support cost reads the descriptors at (u +/- 2, v +/- 2)
+constexpr int kSupportBorder = 5;     // px a support candidate keeps from the image's border
 constexpr int kMinSupportRange = 10;  // disparities a support candidate must be able to try
-constexpr int kDenseBorder = 2;     // px the dense match keeps from the border
-constexpr double kMaxSlant = 0.7;   // a plane steeper than this (px of disparity per px) gives no prior
+constexpr int kDenseBorder = 2;       // px the dense match keeps from the border
+constexpr double kMaxSlant = 0.7;     // a plane steeper than this (px of disparity per px) gives no prior
 
 // Per pixel, 16 bytes of its 5x5 neighbourhood's Sobel responses (12 horizontal, 4 vertical, the centre
 // twice), each response / 4 + 128: ELAS's descriptor. Pixels within 3 px of the border have none (128s).
@@ -39,10 +39,10 @@ class Descriptors {
       for (int u = 3; u < width_ - 3; ++u) {
         std::uint8_t* d = data_.data() + (static_cast<std::size_t>(v) * width_ + u) * kDescriptorBytes;
         const std::array<std::uint8_t, kDescriptorBytes> bytes = {
-            byte(du, v - 2, u),     byte(du, v - 1, u - 2), byte(du, v - 1, u), byte(du, v - 1, u + 2),
-            byte(du, v, u - 1),     byte(du, v, u),         byte(du, v, u),     byte(du, v, u + 1),
+            byte(du, v - 2, u),     byte(du, v - 1, u - 2), byte(du, v - 1, u),     byte(du, v - 1, u + 2),
+            byte(du, v, u - 1),     byte(du, v, u),         byte(du, v, u),         byte(du, v, u + 1),
             byte(du, v + 1, u - 2), byte(du, v + 1, u),     byte(du, v + 1, u + 2), byte(du, v + 2, u),
-            byte(dv, v - 1, u),     byte(dv, v, u - 1),     byte(dv, v, u + 1), byte(dv, v + 1, u)};
+            byte(dv, v - 1, u),     byte(dv, v, u - 1),     byte(dv, v, u + 1),     byte(dv, v + 1, u)};
         std::copy(bytes.begin(), bytes.end(), d);
       }
   }
@@ -216,7 +216,8 @@ std::vector<Triangle> triangulate(const std::vector<SupportPoint>& support, bool
       in_right[k] = Eigen::Vector3d(p.u - p.d, p.v, p.d);
       triangle.corners[k] = cv::Point2f(t[2 * k], t[2 * k + 1]);
     }
-    const Eigen::Vector3d own = plane(right_image ? in_right : in_left), other = plane(right_image ? in_left : in_right);
+    const Eigen::Vector3d own = plane(right_image ? in_right : in_left),
+                          other = plane(right_image ? in_left : in_right);
     triangle.a = own[0], triangle.b = own[1], triangle.c = own[2];
     triangle.valid = std::abs(own[0]) < kMaxSlant && std::abs(other[0]) < kMaxSlant;
     triangles.push_back(triangle);
@@ -226,8 +227,8 @@ std::vector<Triangle> triangulate(const std::vector<SupportPoint>& support, bool
 
 // Per grid cell, the disparities of the support points in it and in the 8 cells around it, +/- 1: the
 // candidates every pixel of the cell tries besides its plane's window.
-std::vector<std::vector<int>> candidate_grid(const std::vector<SupportPoint>& support, bool right_image,
-                                             cv::Size size, const ElasConfig& config) {
+std::vector<std::vector<int>> candidate_grid(const std::vector<SupportPoint>& support, bool right_image, cv::Size size,
+                                             const ElasConfig& config) {
   const int gw = (size.width + config.grid_size - 1) / config.grid_size;
   const int gh = (size.height + config.grid_size - 1) / config.grid_size;
   const int nd = config.disp_max + 1;
@@ -259,9 +260,10 @@ cv::Mat dense_match(const View& view, const std::vector<SupportPoint>& support, 
   const int radius = std::max(2, static_cast<int>(std::ceil(config.sigma * config.sradius)));
   std::vector<int> prior(radius + 1);
   for (int delta = 0; delta <= radius; ++delta)
-    prior[delta] = static_cast<int>(
-        (std::log(config.gamma) - std::log(config.gamma + std::exp(-delta * delta / (2 * config.sigma * config.sigma)))) /
-        config.beta);
+    prior[delta] =
+        static_cast<int>((std::log(config.gamma) -
+                          std::log(config.gamma + std::exp(-delta * delta / (2 * config.sigma * config.sigma)))) /
+                         config.beta);
   cv::Mat disparity(size, CV_32FC1, cv::Scalar(kNoDisparity));
   const auto match = [&](int u, int v, const Triangle& t) {
     const int line = std::clamp(v, 2, height - 3);

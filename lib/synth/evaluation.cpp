@@ -6,21 +6,20 @@
 #include <cmath>
 #include <limits>
 
+#include "frame/symmetry.hpp"
 #include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/core/statistics.hpp"
-#include "toolinc/frame/symmetry.hpp"
 
 namespace toolinc {
 
 namespace {
 
 // estimate-frame and find-tooltip on `cloud`, compared with the truth.
-HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewpoints,
-                                        const ToolGroundTruth& truth, const ToolFrameConfig& frame_config,
-                                        const TooltipConfig& tooltip_config) {
+HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewpoints, const ToolGroundTruth& truth,
+                                        const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
   HeldToolErrors errors;
   try {
     const ToolFrame frame = estimate_tool_frame(cloud, frame_config, viewpoints);
@@ -51,8 +50,8 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
 
 }  // namespace
 
-HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, TruthTip tip, const Eigen::Matrix4d& grasp,
-                                  double hand_radius, double noise_sigma, Rng& rng,
+HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, TruthTip tip,
+                                  const Eigen::Matrix4d& grasp, double hand_radius, double noise_sigma, Rng& rng,
                                   const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
   const Points observed = observe_in_hand(canonical, grasp, hand_radius, noise_sigma, rng);
   return frame_and_tooltip_errors(observed, {}, tool_ground_truth(canonical, symmetry, tip, grasp), frame_config,
@@ -69,8 +68,8 @@ Points true_surface(const SessionSimulatorConfig& session) {
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
   const SimulatedSession session = simulate_session(config);
   const Points canonical = true_surface(config);
-  const ToolGroundTruth truth = tool_ground_truth(canonical, tool_symmetry(config), tool_truth_tip(config),
-                                                  config.hand_from_canonical);
+  const ToolGroundTruth truth =
+      tool_ground_truth(canonical, tool_symmetry(config), tool_truth_tip(config), config.hand_from_canonical);
   SessionErrors errors;
   std::vector<PointCloud> views;
   for (std::size_t v = 0; v < session.views.size(); ++v) {
@@ -91,8 +90,8 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, c
   for (const auto& view : merged.views) errors.views_rejected += !view.accepted;
   errors.model = distance_profile(merged.model.points, transform_points(canonical, config.hand_from_canonical));
   errors.model_median_m = errors.model.median_m;
-  errors.tool = frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame,
-                                         pipeline.tooltip);
+  errors.tool =
+      frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame, pipeline.tooltip);
   errors.merged = std::move(merged.model.points);
   return errors;
 }
@@ -104,8 +103,11 @@ std::string rate_text(int successes, int trials) {
 
 nlohmann::ordered_json rate_json(const std::string& name, int successes, int trials) {
   const auto [lo, hi] = wilson_interval(successes, trials);
-  return {{"name", name}, {"trials", trials}, {"successes", successes},
-          {"rate", static_cast<double>(successes) / std::max(trials, 1)}, {"rate_interval_95", {lo, hi}}};
+  return {{"name", name},
+          {"trials", trials},
+          {"successes", successes},
+          {"rate", static_cast<double>(successes) / std::max(trials, 1)},
+          {"rate_interval_95", {lo, hi}}};
 }
 
 ToolSymmetry measure_symmetry(const Points& canonical) {
@@ -119,7 +121,8 @@ ToolSymmetry measure_symmetry(const Points& canonical) {
   const double reference = scorer.score(Vec3::UnitZ(), centre);  // the canonical mirror plane
   const auto symmetric = [&](const Vec3& normal) { return scorer.score(normal, centre) <= reference + 0.05; };
   if (!symmetric(Vec3::UnitX())) return ToolSymmetry::mirror;
-  if (!symmetric(Vec3(1, 0, 1).normalized()) || !symmetric(Vec3(1, 0, -1).normalized())) return ToolSymmetry::front_back;
+  if (!symmetric(Vec3(1, 0, 1).normalized()) || !symmetric(Vec3(1, 0, -1).normalized()))
+    return ToolSymmetry::front_back;
   // Mirror planes every 45 degrees: a square or a cross, unless planes in between are mirrors too (round).
   const double a = M_PI / 8;
   return symmetric(Vec3(std::cos(a), 0, std::sin(a))) && symmetric(Vec3(std::cos(3 * a), 0, -std::sin(3 * a)))

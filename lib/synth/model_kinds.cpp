@@ -29,8 +29,8 @@ std::string model_kind(const std::string& path, const KindMap& kinds) {
   std::size_t letters = 0;
   while (letters < stem.size() && std::isalpha(static_cast<unsigned char>(stem[letters]))) ++letters;
   const std::string prefix = letters == 0 ? stem : stem.substr(0, letters);
-  static const KindMap abbreviations{{"hok", "hook"},   {"rak", "rake"},       {"sho", "shovel"},
-                                     {"sti", "stick"},  {"lstk", "l-stick"}, {"flat", "flat-top"}};
+  static const KindMap abbreviations{{"hok", "hook"},  {"rak", "rake"},     {"sho", "shovel"},
+                                     {"sti", "stick"}, {"lstk", "l-stick"}, {"flat", "flat-top"}};
   const auto it = abbreviations.find(prefix);
   return it == abbreviations.end() ? prefix : it->second;
 }

@@ -89,8 +89,8 @@ PoseErrors pose_errors(const PartialViewCase& c, const Eigen::Matrix4d& estimate
       const int turns = c.truth.symmetry == ToolSymmetry::fourfold ? 4 : 2;
       e.rotation_deg = std::numeric_limits<double>::infinity();
       for (int k = 0; k < turns; ++k)
-        e.rotation_deg = std::min(e.rotation_deg,
-                                  rotation_angle_deg(d * Eigen::AngleAxisd(2 * M_PI * k / turns, Vec3::UnitY())));
+        e.rotation_deg =
+            std::min(e.rotation_deg, rotation_angle_deg(d * Eigen::AngleAxisd(2 * M_PI * k / turns, Vec3::UnitY())));
       break;
     }
     case ToolSymmetry::mirror:
@@ -98,7 +98,8 @@ PoseErrors pose_errors(const PartialViewCase& c, const Eigen::Matrix4d& estimate
       break;
   }
   e.translation_m = (estimate.topRightCorner<3, 1>() - c.grasp.topRightCorner<3, 1>()).norm();
-  e.tooltip_m = tooltip_error(c.truth, tool_ground_truth(c.model.points, c.truth.symmetry, c.truth.tip, estimate).tooltips.front());
+  e.tooltip_m = tooltip_error(
+      c.truth, tool_ground_truth(c.model.points, c.truth.symmetry, c.truth.tip, estimate).tooltips.front());
   return e;
 }
 

@@ -12,15 +12,16 @@ namespace {
 PoseCaseResult evaluate_case(const PoseEvaluationModel& model, int grasp, const PoseEvaluationConfig& config) {
   PoseCaseResult r;
   r.grasp = grasp;
-  const PartialViewCase c = make_model_partial_view_case(
-      model.cloud, model.symmetry, config.seed * 1000003u + static_cast<std::uint32_t>(grasp), any_grasp_range(),
-      config.view);
+  const PartialViewCase c = make_model_partial_view_case(model.cloud, model.symmetry,
+                                                         config.seed * 1000003u + static_cast<std::uint32_t>(grasp),
+                                                         any_grasp_range(), config.view);
   r.view_points = static_cast<int>(c.view.size());
   try {
     const PoseModel pose_model(c.model.points, config.align);
     const PoseResult result = align_pose(pose_model, c.view, config.align);
     r.errors = pose_errors(c, result.best.hand_from_model);
-    r.pose_right = r.errors.rotation_deg <= config.max_rotation_deg && r.errors.translation_m <= config.max_translation_m;
+    r.pose_right =
+        r.errors.rotation_deg <= config.max_rotation_deg && r.errors.translation_m <= config.max_translation_m;
     r.tooltip_right = r.errors.tooltip_m <= config.max_tooltip_m;
     r.right = r.pose_right || r.tooltip_right;
     r.ambiguous = result.ambiguous;

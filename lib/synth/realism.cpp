@@ -56,9 +56,9 @@ std::vector<SimulatedFigures> simulated_figures(SessionSimulatorConfig session, 
     simulated.errors = evaluate_simulated_session(session);
     simulated.merged = !simulated.errors.merged.empty();
     if (simulated.merged)
-      simulated.figures = cloud_figures(simulated.errors.merged, transform_points(canonical, session.hand_from_canonical),
-                                        tool_ground_truth(canonical, tool_symmetry(session), tool_truth_tip(session),
-                                                          session.hand_from_canonical));
+      simulated.figures = cloud_figures(
+          simulated.errors.merged, transform_points(canonical, session.hand_from_canonical),
+          tool_ground_truth(canonical, tool_symmetry(session), tool_truth_tip(session), session.hand_from_canonical));
     sessions.push_back(std::move(simulated));
   }
   return sessions;

@@ -3,8 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/statistics.hpp"
@@ -21,8 +21,8 @@ using Rotation = Eigen::Matrix3d;
 // leaves almost no holes for its back to show through (at 0.7 mm spacing and 26 cm, about 8 samples
 // reach each pixel); silhouettes grow by up to a pixel.
 constexpr double kMinSplatRadius = 1.0;
-constexpr double kGripLength = 0.05;       // m of the handle the fingers close around
-constexpr int kBlobMargin = 20;            // dispBlobber's ROI margin, px
+constexpr double kGripLength = 0.05;  // m of the handle the fingers close around
+constexpr int kBlobMargin = 20;       // dispBlobber's ROI margin, px
 
 Colour bgr(float r, float g, float b) { return {b, g, r}; }
 
@@ -90,10 +90,10 @@ float lambert(Vec3 normal, const Vec3& view, const Vec3& light, double ambient) 
   return static_cast<float>(ambient + (1.0 - ambient) * std::max(0.0, normal.dot(light)));
 }
 
-constexpr double kToolTextureScale = 0.004;   // m: a few pixels on a tool at 45 cm
+constexpr double kToolTextureScale = 0.004;  // m: a few pixels on a tool at 45 cm
 constexpr double kHandTextureScale = 0.003;
 constexpr double kTableTextureScale = 0.006;
-constexpr double kWallTextureScale = 0.02;    // at 1 m and more, 1 px is 4 mm
+constexpr double kWallTextureScale = 0.02;  // at 1 m and more, 1 px is 4 mm
 
 double median_neighbour_distance(const Points& points) {
   const KdTree tree(points);
@@ -149,7 +149,6 @@ Box hand_box(const SessionSimulatorConfig& config) {
   return box;
 }
 
-
 void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, const Pose& root_from_camera,
                      const Pose& hand_from_camera, Render& render) {
   const Rotation root_r = root_from_camera.topLeftCorner<3, 3>(), hand_r = hand_from_camera.topLeftCorner<3, 3>();
@@ -202,8 +201,8 @@ void render_ray_cast(const SessionSimulatorConfig& config, const Box& hand, cons
 }
 
 // The tool by splatting its samples, each over the pixels within its footprint.
-void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
-                 Render& render, const Lighting* lighting) {
+void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical, Render& render,
+                 const Lighting* lighting) {
   const Rotation r = camera_from_canonical.topLeftCorner<3, 3>();
   const Vec3 t = camera_from_canonical.topRightCorner<3, 1>();
   for (std::size_t i = 0; i < model.points.size(); ++i) {
@@ -212,8 +211,8 @@ void render_tool(const RenderModel& model, const CameraModel& camera, const Pose
     const double u = camera.fx * q.x() / q.z() + camera.cx, v = camera.fy * q.y() / q.z() + camera.cy;
     const double radius = std::max(kMinSplatRadius, 0.8 * model.spacing * camera.fx / q.z());
     const float light = model.normals.empty() ? 1.0f
-                        : lighting ? lambert(r * model.normals[i], q, lighting->direction, lighting->ambient)
-                                   : shade((r * model.normals[i]).dot(q.normalized()));
+                        : lighting            ? lambert(r * model.normals[i], q, lighting->direction, lighting->ambient)
+                                              : shade((r * model.normals[i]).dot(q.normalized()));
     const Colour c = model.colours[i] * light;
     const int u0 = std::max(0, static_cast<int>(std::ceil(u - radius)));
     const int u1 = std::min(render.width - 1, static_cast<int>(std::floor(u + radius)));
@@ -242,10 +241,12 @@ void set_blob(const cv::Mat& mask, ViewData& data, std::optional<BlobInfo>& blob
   const cv::Moments m = cv::moments(mask, true);
   if (m.m00 <= 0) return;
   const cv::Rect box = cv::boundingRect(mask);
-  blob = BlobInfo{m.m10 / m.m00, m.m01 / m.m00, m.m00,
-                  {std::max(0, box.x - kBlobMargin), std::max(0, box.y - kBlobMargin),
-                   std::min(mask.cols - 1, box.br().x - 1 + kBlobMargin),
-                   std::min(mask.rows - 1, box.br().y - 1 + kBlobMargin)}};
+  blob = BlobInfo{
+      m.m10 / m.m00,
+      m.m01 / m.m00,
+      m.m00,
+      {std::max(0, box.x - kBlobMargin), std::max(0, box.y - kBlobMargin),
+       std::min(mask.cols - 1, box.br().x - 1 + kBlobMargin), std::min(mask.rows - 1, box.br().y - 1 + kBlobMargin)}};
   data.blob = mask;
 }
 
@@ -286,7 +287,8 @@ ViewData observe(const Render& render, const SessionSimulatorConfig& config, con
       if (render.surface[i] == Surface::nothing) continue;
       const double d = fb / render.depth[i] + config.disparity_noise_px * rng.gaussian();
       if (d <= 0 || d > camera.num_disparities) continue;  // beyond the search range: no match
-      data.disparity.at<uchar>(v, u) = static_cast<uchar>(std::clamp<long>(std::lround(d * 255.0 / camera.num_disparities), 1, 255));
+      data.disparity.at<uchar>(v, u) =
+          static_cast<uchar>(std::clamp<long>(std::lround(d * 255.0 / camera.num_disparities), 1, 255));
       points[i] = apply(root_from_camera, (fb / d) * pixel_ray(camera, u, v));
     }
   data.left = camera_image(render, config.pixel_noise, rng);
@@ -323,7 +325,8 @@ ViewData observe_stereo(const Render& left, const Render& right, const SessionSi
 }
 
 ViewData record_view(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
-                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob) {
+                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng,
+                     std::optional<BlobInfo>& blob) {
   const Render left = render_scene(config, model, hand, root_from_hand, root_from_camera);
   if (config.stereo == StereoModel::ideal) return observe(left, config, root_from_camera, rng, blob);
   Pose root_from_right = root_from_camera;

@@ -12,8 +12,8 @@
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/core/rigid.hpp"
-#include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/grasp.hpp"
+#include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/model_kinds.hpp"
 #include "toolinc/synth/render.hpp"
 
@@ -55,8 +55,8 @@ void check(const SessionSimulatorConfig& config) {
   if (config.poses.empty()) throw std::invalid_argument("no exploration poses");
   for (const auto& gross : config.gross_errors)
     if (gross.view >= config.poses.size())
-      throw std::invalid_argument(fmt::format("gross error for view {}, but there are {} views", gross.view,
-                                              config.poses.size()));
+      throw std::invalid_argument(
+          fmt::format("gross error for view {}, but there are {} views", gross.view, config.poses.size()));
   if (!(config.scene_variation >= 0 && config.scene_variation < 1))
     throw std::invalid_argument(fmt::format("scene variation {} is not in [0, 1)", config.scene_variation));
   if (config.tool_rgb)
@@ -66,7 +66,6 @@ void check(const SessionSimulatorConfig& config) {
   if (!config.model.empty() && config.model.has_colors() && config.model.colors.size() != config.model.size())
     throw std::invalid_argument("the model's colours do not match its points");
 }
-
 
 // ground_truth_json describes a procedural shape; a model file replaces that description.
 Json ground_truth(const SessionSimulatorConfig& config, const RenderModel& model, const ToolGroundTruth& truth,
@@ -101,9 +100,12 @@ StereoModel stereo_model_from_string(const std::string& name) {
 
 std::string to_string(StereoModel model) {
   switch (model) {
-    case StereoModel::ideal: return "ideal";
-    case StereoModel::sgbm: return "sgbm";
-    case StereoModel::elas: return "elas";
+    case StereoModel::ideal:
+      return "ideal";
+    case StereoModel::sgbm:
+      return "sgbm";
+    case StereoModel::elas:
+      return "elas";
   }
   return "";
 }
@@ -146,8 +148,8 @@ SessionSimulatorConfig model_session(const PointCloud& model, const std::string&
 SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
   check(config);
   const RenderModel model = render_model(config);
-  const ToolGroundTruth truth = tool_ground_truth(model.points, tool_symmetry(config), tool_truth_tip(config),
-                                                  config.hand_from_canonical);
+  const ToolGroundTruth truth =
+      tool_ground_truth(model.points, tool_symmetry(config), tool_truth_tip(config), config.hand_from_canonical);
   const Box hand_model = hand_box(config);
   // Callers draw the grasp from the same seed; a different stream keeps the two independent.
   Rng rng(config.seed ^ 0x5eed5e55u);
@@ -161,9 +163,9 @@ SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
   info.created = config.created;
   info.recorder_name = "simulate-session";
   info.recorder_version = TOOLINC_VERSION;
-  info.notes = fmt::format("simulated: {}, seed {}", config.model.empty() ? to_string(config.shape.family)
-                                                                          : "model " + config.model_name,
-                           config.seed);
+  info.notes =
+      fmt::format("simulated: {}, seed {}",
+                  config.model.empty() ? to_string(config.shape.family) : "model " + config.model_name, config.seed);
   for (std::size_t i = 0; i < config.poses.size(); ++i) {
     const Pose root_from_hand = exploration_hand_pose(config.hand, config.poses[i]);
     const Pose root_from_camera = fixate_tool(config, model, root_from_hand * config.hand_from_canonical);

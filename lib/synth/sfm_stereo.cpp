@@ -9,11 +9,10 @@ namespace toolinc {
 
 cv::Mat sfm_disparity16(const cv::Mat& left, const cv::Mat& right, const SfmStereoConfig& config) {
   const int channels = left.channels(), area = config.block_size * config.block_size;
-  const auto sgbm = cv::StereoSGBM::create(config.min_disparity, config.num_disparities, config.block_size,
-                                           8 * channels * area, 32 * channels * area, config.disp12_max_diff,
-                                           config.pre_filter_cap, config.uniqueness_ratio, config.speckle_window_size,
-                                           config.speckle_range,
-                                           config.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM);
+  const auto sgbm = cv::StereoSGBM::create(
+      config.min_disparity, config.num_disparities, config.block_size, 8 * channels * area, 32 * channels * area,
+      config.disp12_max_diff, config.pre_filter_cap, config.uniqueness_ratio, config.speckle_window_size,
+      config.speckle_range, config.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM);
   cv::Mat disparity;
   sgbm->compute(left, right, disparity);
   return disparity;

@@ -59,9 +59,7 @@ Basis perpendicular_basis(const Vec3& axis) {
   return {u, axis.cross(u)};
 }
 
-Vec3 on_circle(const Basis& basis, double angle) {
-  return std::cos(angle) * basis.u + std::sin(angle) * basis.v;
-}
+Vec3 on_circle(const Basis& basis, double angle) { return std::cos(angle) * basis.u + std::sin(angle) * basis.v; }
 
 // --- Surface patches ------------------------------------------------------------------------------
 
@@ -156,8 +154,8 @@ Patch shell_end(const Shell& shell, double y, double normal_y) {
 }
 
 std::vector<Patch> shell_surfaces(const Shell& shell) {
-  std::vector<Patch> patches{shell_face(shell, 1.0), shell_face(shell, -1.0),
-                             shell_end(shell, shell.y_hi, 1.0), shell_end(shell, shell.y_lo, -1.0)};
+  std::vector<Patch> patches{shell_face(shell, 1.0), shell_face(shell, -1.0), shell_end(shell, shell.y_hi, 1.0),
+                             shell_end(shell, shell.y_lo, -1.0)};
   const Vec3 across(2.0 * shell.half_thickness, 0.0, 0.0), along(0.0, shell.y_hi - shell.y_lo, 0.0);
   for (double side : {-1.0, 1.0}) {
     const double z = side * shell.half_width;
@@ -172,8 +170,7 @@ std::vector<Patch> shell_surfaces(const Shell& shell) {
 Part cylinder(const Vec3& a, const Vec3& b, double radius) {
   const Vec3 axis = (b - a).normalized();
   const double length = (b - a).norm();
-  return {{cylinder_side(a, b, radius), disk(a, -axis, radius), disk(b, axis, radius)},
-          [=](const Vec3& p) {
+  return {{cylinder_side(a, b, radius), disk(a, -axis, radius), disk(b, axis, radius)}, [=](const Vec3& p) {
             const double along = (p - a).dot(axis);
             return along >= -kCoverTolerance && along <= length + kCoverTolerance &&
                    (p - a - along * axis).norm() <= radius + kCoverTolerance;
@@ -181,8 +178,7 @@ Part cylinder(const Vec3& a, const Vec3& b, double radius) {
 }
 
 Part ball(const Vec3& centre, double radius) {
-  return {{sphere(centre, radius)},
-          [=](const Vec3& p) { return (p - centre).norm() <= radius + kCoverTolerance; }};
+  return {{sphere(centre, radius)}, [=](const Vec3& p) { return (p - centre).norm() <= radius + kCoverTolerance; }};
 }
 
 Part box(const Vec3& lo, const Vec3& hi) {
@@ -229,8 +225,8 @@ std::vector<Part> rake_parts(const ToolShape& shape) {
 
 std::vector<Part> tool_parts(const ToolShape& shape) {
   const double r = shape.handle_radius, length = shape.head_length, half_width = 0.5 * shape.head_width;
-  const double head_y = -shape.handle_length;              // where the head starts
-  const double far_y = head_y - shape.head_height;          // the far end of the stick-like families
+  const double head_y = -shape.handle_length;       // where the head starts
+  const double far_y = head_y - shape.head_height;  // the far end of the stick-like families
   const Vec3 hand = Vec3::Zero(), corner = on_handle_axis(far_y);
   switch (shape.family) {
     case ToolFamily::stick:
@@ -253,8 +249,7 @@ std::vector<Part> tool_parts(const ToolShape& shape) {
     case ToolFamily::l_stick:
       return {cylinder(hand, corner, r), ball(corner, r), cylinder(corner, Vec3(length, far_y, 0.0), r)};
     case ToolFamily::t_bar:
-      return {cylinder(hand, corner, r),
-              cylinder(Vec3(-0.5 * length, far_y, 0.0), Vec3(0.5 * length, far_y, 0.0), r)};
+      return {cylinder(hand, corner, r), cylinder(Vec3(-0.5 * length, far_y, 0.0), Vec3(0.5 * length, far_y, 0.0), r)};
     case ToolFamily::flat_top:
       return {cylinder(hand, corner, r),
               box(Vec3(-0.5 * length, far_y - kPlateThickness, -half_width), Vec3(0.5 * length, far_y, half_width))};
@@ -264,8 +259,8 @@ std::vector<Part> tool_parts(const ToolShape& shape) {
               blade({head_y - blade_length, head_y, half_width, 0.0, kBladeHalfThickness})};
     }
     case ToolFamily::square_plate:
-      return {cylinder(hand, corner, r),
-              box(Vec3(-0.5 * length, far_y - kPlateThickness, -0.5 * length), Vec3(0.5 * length, far_y, 0.5 * length))};
+      return {cylinder(hand, corner, r), box(Vec3(-0.5 * length, far_y - kPlateThickness, -0.5 * length),
+                                             Vec3(0.5 * length, far_y, 0.5 * length))};
     case ToolFamily::cross:
       return {cylinder(hand, corner, r), cylinder(Vec3(-0.5 * length, far_y, 0.0), Vec3(0.5 * length, far_y, 0.0), r),
               cylinder(Vec3(0.0, far_y, -0.5 * length), Vec3(0.0, far_y, 0.5 * length), r)};
@@ -330,17 +325,28 @@ std::vector<ToolFamily> real_shape_families() {
 
 std::string to_string(ToolFamily family) {
   switch (family) {
-    case ToolFamily::blade: return "blade";
-    case ToolFamily::square_plate: return "square-plate";
-    case ToolFamily::cross: return "cross";
-    case ToolFamily::stick: return "stick";
-    case ToolFamily::hoe: return "hoe";
-    case ToolFamily::hook: return "hook";
-    case ToolFamily::rake: return "rake";
-    case ToolFamily::shovel: return "shovel";
-    case ToolFamily::l_stick: return "l-stick";
-    case ToolFamily::t_bar: return "t-bar";
-    case ToolFamily::flat_top: return "flat-top";
+    case ToolFamily::blade:
+      return "blade";
+    case ToolFamily::square_plate:
+      return "square-plate";
+    case ToolFamily::cross:
+      return "cross";
+    case ToolFamily::stick:
+      return "stick";
+    case ToolFamily::hoe:
+      return "hoe";
+    case ToolFamily::hook:
+      return "hook";
+    case ToolFamily::rake:
+      return "rake";
+    case ToolFamily::shovel:
+      return "shovel";
+    case ToolFamily::l_stick:
+      return "l-stick";
+    case ToolFamily::t_bar:
+      return "t-bar";
+    case ToolFamily::flat_top:
+      return "flat-top";
   }
   throw std::invalid_argument("unknown tool family");
 }
@@ -358,22 +364,30 @@ ToolFamily family_from_string(const std::string& name) {
 
 ToolSymmetry symmetry_of(ToolFamily family) {
   switch (family) {
-    case ToolFamily::stick: return ToolSymmetry::axial;
+    case ToolFamily::stick:
+      return ToolSymmetry::axial;
     case ToolFamily::t_bar:
     case ToolFamily::flat_top:
-    case ToolFamily::blade: return ToolSymmetry::front_back;
+    case ToolFamily::blade:
+      return ToolSymmetry::front_back;
     case ToolFamily::square_plate:
-    case ToolFamily::cross: return ToolSymmetry::fourfold;
-    default: return ToolSymmetry::mirror;
+    case ToolFamily::cross:
+      return ToolSymmetry::fourfold;
+    default:
+      return ToolSymmetry::mirror;
   }
 }
 
 std::string to_string(ToolSymmetry symmetry) {
   switch (symmetry) {
-    case ToolSymmetry::mirror: return "mirror";
-    case ToolSymmetry::front_back: return "front_back";
-    case ToolSymmetry::fourfold: return "fourfold";
-    case ToolSymmetry::axial: return "axial";
+    case ToolSymmetry::mirror:
+      return "mirror";
+    case ToolSymmetry::front_back:
+      return "front_back";
+    case ToolSymmetry::fourfold:
+      return "fourfold";
+    case ToolSymmetry::axial:
+      return "axial";
   }
   throw std::invalid_argument("unknown tool symmetry");
 }

@@ -32,8 +32,8 @@ namespace {
 // a random grasp; the local refinement starts 3 degrees and 5 mm off the truth.
 struct Pair {
   Points model, view;
-  Eigen::Matrix4d grasp;             // hand_from_canonical, the truth
-  Eigen::Matrix4d initial;           // model_from_view, perturbed
+  Eigen::Matrix4d grasp;    // hand_from_canonical, the truth
+  Eigen::Matrix4d initial;  // model_from_view, perturbed
 };
 
 const Pair& pair() {
@@ -93,8 +93,8 @@ void BM_AlignPose(benchmark::State& state) {
 #ifdef TOOLINC_WITH_PCL
 pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const Points& points) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  for (const auto& p : points) cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                                              static_cast<float>(p.z())));
+  for (const auto& p : points)
+    cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
   return cloud;
 }
 
@@ -159,7 +159,8 @@ void BM_PclPointToPlaneIcp(benchmark::State& state) {
     benchmark::DoNotOptimize(result);
   }
   const Eigen::Matrix4d error = result * p.grasp;  // model_from_view * view_from_model: identity when right
-  state.counters["rotation_error_deg"] = Eigen::AngleAxisd(Eigen::Matrix3d(error.topLeftCorner<3, 3>())).angle() * 180 / M_PI;
+  state.counters["rotation_error_deg"] =
+      Eigen::AngleAxisd(Eigen::Matrix3d(error.topLeftCorner<3, 3>())).angle() * 180 / M_PI;
   state.counters["translation_error_mm"] = 1000 * error.topRightCorner<3, 1>().norm();
   state.SetLabel("pcl::IterativeClosestPointWithNormals<PointNormal>, same pair, start and normals");
 }
@@ -183,9 +184,10 @@ void print_summary() {
   const PoseModel& model = pair_model();
   const double ours = median_ms([&] { refine_pose(model, p.view, p.initial); }, 21);
   const double ours_prepared = median_ms([&] { refine_pose(PoseModel(p.model), p.view, p.initial); }, 11);
-  std::printf("\nlocal refinement, %zu-point view onto %zu-point model: %.1f ms (%.1f ms with the model's "
-              "preparation); floor 30 ms\n",
-              p.view.size(), p.model.size(), ours, ours_prepared);
+  std::printf(
+      "\nlocal refinement, %zu-point view onto %zu-point model: %.1f ms (%.1f ms with the model's "
+      "preparation); floor 30 ms\n",
+      p.view.size(), p.model.size(), ours, ours_prepared);
   const char* count = std::getenv("TOOLINC_BENCH_CASES_PER_FAMILY");
   const int per_family = count ? std::max(1, std::atoi(count)) : 10;
   // Errors of a model_from_view against the truth: rotation (deg), translation (mm).
@@ -199,14 +201,16 @@ void print_summary() {
 #ifdef TOOLINC_WITH_PCL
   const double pcl = median_ms([&] { pcl_icp(p.view, p.model, p.initial); }, 5);
   const auto [pcl_deg, pcl_mm] = errors(pcl_icp(p.view, p.model, p.initial));
-  std::printf("PCL stock ICP, the original's settings: %.1f ms, ends %.2f deg, %.1f mm off: ratio PCL / ours %.2f "
-              "(%.2f with the model's preparation)\n",
-              pcl, pcl_deg, pcl_mm, pcl / ours, pcl / ours_prepared);
+  std::printf(
+      "PCL stock ICP, the original's settings: %.1f ms, ends %.2f deg, %.1f mm off: ratio PCL / ours %.2f "
+      "(%.2f with the model's preparation)\n",
+      pcl, pcl_deg, pcl_mm, pcl / ours, pcl / ours_prepared);
   const double converged = median_ms([&] { pcl_icp(p.view, p.model, p.initial, 0.01, 1e-10); }, 5);
   const auto [converged_deg, converged_mm] = errors(pcl_icp(p.view, p.model, p.initial, 0.01, 1e-10));
-  std::printf("PCL stock ICP run to convergence: %.1f ms, ends %.2f deg, %.1f mm off: ratio PCL / ours %.2f (%.2f "
-              "with the model's preparation)\n",
-              converged, converged_deg, converged_mm, converged / ours, converged / ours_prepared);
+  std::printf(
+      "PCL stock ICP run to convergence: %.1f ms, ends %.2f deg, %.1f mm off: ratio PCL / ours %.2f (%.2f "
+      "with the model's preparation)\n",
+      converged, converged_deg, converged_mm, converged / ours, converged / ours_prepared);
 #endif
   int ours_ok = 0, original_ok = 0, total = 0;
   std::vector<double> whole;
@@ -224,12 +228,14 @@ void print_summary() {
 #endif
     }
   std::sort(whole.begin(), whole.end());
-  std::printf("whole align-pose (model preparation included) over %d cases: median %.0f ms, 90th percentile "
-              "%.0f ms, slowest %.0f ms; floor 300 ms\n",
-              total, whole[whole.size() / 2], whole[whole.size() * 9 / 10], whole.back());
-  std::printf("success (rotation <= 3 deg, translation <= 5 mm, tooltip <= 10 mm, modulo symmetry) on the same "
-              "%d random grasps:\n  align-pose            %3d/%d (%.1f%%)\n",
-              total, ours_ok, total, 100.0 * ours_ok / total);
+  std::printf(
+      "whole align-pose (model preparation included) over %d cases: median %.0f ms, 90th percentile "
+      "%.0f ms, slowest %.0f ms; floor 300 ms\n",
+      total, whole[whole.size() / 2], whole[whole.size() * 9 / 10], whole.back());
+  std::printf(
+      "success (rotation <= 3 deg, translation <= 5 mm, tooltip <= 10 mm, modulo symmetry) on the same "
+      "%d random grasps:\n  align-pose            %3d/%d (%.1f%%)\n",
+      total, ours_ok, total, 100.0 * ours_ok / total);
 #ifdef TOOLINC_WITH_PCL
   std::printf("  original (PCL ICP from the identity, 7 cm) %3d/%d (%.1f%%)\n", original_ok, total,
               100.0 * original_ok / total);

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "support/onnx_writer.hpp"
 #include "toolinc/appearance/builtin_features.hpp"
 #include "toolinc/appearance/dnn_features.hpp"
-#include "toolinc/appearance/onnx_writer.hpp"
 #include "toolinc/appearance/rls.hpp"
 #include "toolinc/core/random.hpp"
 

@@ -30,8 +30,8 @@ inline std::filesystem::path scratch() {
 }
 
 inline void write_bytes(const std::filesystem::path& path, const std::uint8_t* data, std::size_t size) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                                 static_cast<std::streamsize>(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
 }
 
 // Runs read(); InputError is the expected answer to bad bytes, everything else propagates.

@@ -45,7 +45,8 @@ class Command {
   CLI::App cli_;
   std::string output_;
   std::string config_file_;
-  std::shared_ptr<nlohmann::ordered_json> config_ = std::make_shared<nlohmann::ordered_json>(nlohmann::ordered_json::object());
+  std::shared_ptr<nlohmann::ordered_json> config_ =
+      std::make_shared<nlohmann::ordered_json>(nlohmann::ordered_json::object());
   std::string command_line_;
   int verbosity_ = 0;
   bool quiet_ = false;

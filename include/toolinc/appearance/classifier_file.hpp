@@ -1,7 +1,7 @@
 // The classifier file (docs/formats.md "classifier"): type "classifier", version 1, the labels, the feature
 // extractor with everything needed to reproduce it (for a network, the model's SHA-256), the chosen
-// lambda and how it was chosen, the unknown thresholds and how they were chosen (with the training sessions' depth blocks they measure
-// distances to), and per label the weights and bias of its linear score.
+// lambda and how it was chosen, the unknown thresholds and how they were chosen (with the training sessions' depth
+// blocks they measure distances to), and per label the weights and bias of its linear score.
 #pragma once
 
 #include <optional>
@@ -20,8 +20,8 @@ constexpr int kClassifierVersion = 1;
 struct AppearanceClassifier {
   FeatureExtractor extractor;
   RlsModel model;
-  DecisionConfig decision;  // the thresholds classify uses unless told others
-  Json decision_summary;    // how they were chosen (files without a "decision": the defaults)
+  DecisionConfig decision;             // the thresholds classify uses unless told others
+  Json decision_summary;               // how they were chosen (files without a "decision": the defaults)
   std::optional<KnownSessions> known;  // builtin classifiers trained on sessions: for decision.max_distance
 };
 

@@ -30,9 +30,9 @@ void check_box_inside(const cv::Rect& box, const cv::Size& image, const std::str
 // One view's crop of a recorded session.
 struct ViewCrop {
   std::size_t view = 0;
-  cv::Rect box;   // the crop in the left image, margin included
-  cv::Mat image;  // BGR
-  cv::Mat mask;   // the blob in the crop (blob.png's), empty when the session has no blob.png
+  cv::Rect box;                         // the crop in the left image, margin included
+  cv::Mat image;                        // BGR
+  cv::Mat mask;                         // the blob in the crop (blob.png's), empty when the session has no blob.png
   std::vector<Eigen::Vector3d> points;  // the blob's pixels with a disparity, in the hand frame (m; recorded poses)
 };
 

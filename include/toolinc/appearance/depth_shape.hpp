@@ -32,14 +32,14 @@ struct DepthShapeConfig {
   double grasp_reach = 0.10;  // m
   // The head: the points within head_length of the far end, binned along the handle in head_bins and
   // across it in steps of across_step.
-  double head_length = 0.12;  // m
-  int head_bins = 4;          // along the handle
-  double across_step = 0.02;  // m (2 handle diameters: a tooth, a bar)
-  int radial_bins = 6;        // distance from the handle's axis, the last bin takes everything beyond
-  int footprint_bins = 12;    // across the head's main direction, signed: half each side, 12 cm, so that
-                              // what reaches farthest (a hook's return 11 cm out) has bins of its own
+  double head_length = 0.12;     // m
+  int head_bins = 4;             // along the handle
+  double across_step = 0.02;     // m (2 handle diameters: a tooth, a bar)
+  int radial_bins = 6;           // distance from the handle's axis, the last bin takes everything beyond
+  int footprint_bins = 12;       // across the head's main direction, signed: half each side, 12 cm, so that
+                                 // what reaches farthest (a hook's return 11 cm out) has bins of its own
   int footprint_depth_bins = 4;  // across the head's second direction, unsigned
-  double unit = 0.1;          // m, the extents are measured in (about a tool head's size)
+  double unit = 0.1;             // m, the extents are measured in (about a tool head's size)
 };
 
 // Length of the block: 6 extents, head_bins x radial_bins, head_bins x footprint_bins x footprint_depth_bins.
@@ -64,6 +64,7 @@ Eigen::VectorXd depth_shape(const std::vector<Eigen::Vector3d>& points, const De
 
 // The handle's axis that block is described about (unit, towards the far end); none with fewer than 20
 // points outside the hand.
-std::optional<Eigen::Vector3d> depth_shape_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeConfig& config);
+std::optional<Eigen::Vector3d> depth_shape_axis(const std::vector<Eigen::Vector3d>& points,
+                                                const DepthShapeConfig& config);
 
 }  // namespace toolinc

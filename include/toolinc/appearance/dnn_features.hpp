@@ -20,7 +20,7 @@ struct DnnFeatureConfig {
   std::array<double, 3> mean{0.485, 0.456, 0.406};  // r, g, b, on pixel values scaled to [0, 1]
   std::array<double, 3> std{0.229, 0.224, 0.225};   // r, g, b: input = (value - mean) / std
   std::string channel_order = "rgb";                // of the network's input: "rgb" or "bgr"
-  std::string output_layer;                         // the layer whose output is the feature; empty: the network's output
+  std::string output_layer;  // the layer whose output is the feature; empty: the network's output
 };
 
 // Throws std::invalid_argument on a bad size, a zero std or an unknown channel order.

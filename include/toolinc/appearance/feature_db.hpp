@@ -10,7 +10,7 @@
 namespace toolinc {
 
 struct LabelledFeatures {
-  std::vector<std::string> labels;      // one per row
+  std::vector<std::string> labels;  // one per row
   std::vector<Eigen::VectorXd> rows;
 };
 

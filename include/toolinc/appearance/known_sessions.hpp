@@ -37,6 +37,7 @@ double distance_to_label(const KnownSessions& known, const Eigen::MatrixXd& rows
 Json to_json(const KnownSessions& known);
 // Throws InputError(file, ...) on a malformed record; labels: how many the classifier has, dimension: its
 // feature length.
-KnownSessions known_sessions_from_json(const Json& json, std::size_t labels, Eigen::Index dimension, const std::string& file);
+KnownSessions known_sessions_from_json(const Json& json, std::size_t labels, Eigen::Index dimension,
+                                       const std::string& file);
 
 }  // namespace toolinc

@@ -16,8 +16,8 @@ namespace toolinc {
 struct TrainingSources {
   std::vector<std::string> sessions;  // every view's crop, labelled by `label` or else the session's tool_label
   std::string label;
-  std::string images;                 // a text file of "path label x y w h" lines (paths relative to it)
-  std::string features_db;            // DIR/<label>/<n>.txt
+  std::string images;       // a text file of "path label x y w h" lines (paths relative to it)
+  std::string features_db;  // DIR/<label>/<n>.txt
 };
 
 // The whole of `train`: the extractor is the network when a backbone is given, else the builtin

@@ -39,7 +39,7 @@ Decision decide(const Eigen::RowVectorXd& scores, const std::vector<std::string>
 // scores: one row per sample; samples: what each row came from ({"view": 2, "box": [...]}, {"row": 0}, ...),
 // to which the sample's label and scores are added; context: fields recorded before the samples (the
 // classifier, the input).
-Json classification_json(const std::vector<std::string>& labels, const Eigen::MatrixXd& scores, std::vector<Json> samples,
-                         const DecisionConfig& config, const Json& context = Json::object());
+Json classification_json(const std::vector<std::string>& labels, const Eigen::MatrixXd& scores,
+                         std::vector<Json> samples, const DecisionConfig& config, const Json& context = Json::object());
 
 }  // namespace toolinc

@@ -51,8 +51,8 @@ Eigen::MatrixXd leave_group_out_scores(const Eigen::MatrixXd& features, const st
 // for little, features that mark a label fully. Scales x's block in place, sets model to the classifier
 // trained on it and returns the weight.
 double weigh_block(Eigen::MatrixXd& x, const std::vector<std::size_t>& targets, const std::vector<std::string>& labels,
-                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size, const RlsConfig& config,
-                   RlsModel& model);
+                   const std::vector<std::size_t>& groups, Eigen::Index start, Eigen::Index size,
+                   const RlsConfig& config, RlsModel& model);
 
 // Scores, one row per feature row, one column per label.
 Eigen::MatrixXd rls_scores(const RlsModel& model, const Eigen::MatrixXd& features);

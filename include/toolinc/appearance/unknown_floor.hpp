@@ -23,13 +23,13 @@ struct UnknownFloorConfig {
 // The floor on the best score: the known_rejection quantile (core/statistics quantile) of the scores a
 // known tool gets from the classifier trained without its session (another grasp of a tool it knows;
 // leave_group_out_scores at model's lambda), per session (group), but never above DecisionConfig's
-// default (0: known tools in new grasps score lower than sessions left out of training do). The best scores a tool gets from the
-// classifier trained without its label (a tool it has never seen) are recorded in summary: the share of
-// them the floor accepts. Needs three labels (two left when one is out), and
-// sessions only: of images or database rows it is not known which come from one session, and a row left
-// out beside its session's other frames would look better known than a new grasp does; otherwise the
-// defaults. x, targets, groups: the training rows as model was trained on them. summary receives how the
-// thresholds were chosen and the shares of known rejected and unknown accepted on the training data.
+// default (0: known tools in new grasps score lower than sessions left out of training do). The best scores a tool gets
+// from the classifier trained without its label (a tool it has never seen) are recorded in summary: the share of them
+// the floor accepts. Needs three labels (two left when one is out), and sessions only: of images or database rows it is
+// not known which come from one session, and a row left out beside its session's other frames would look better known
+// than a new grasp does; otherwise the defaults. x, targets, groups: the training rows as model was trained on them.
+// summary receives how the thresholds were chosen and the shares of known rejected and unknown accepted on the training
+// data.
 DecisionConfig calibrate_decision(const Eigen::MatrixXd& x, const std::vector<std::size_t>& targets,
                                   const std::vector<std::string>& labels, const std::vector<std::size_t>& groups,
                                   bool sessions_only, const RlsModel& model, const RlsConfig& rls,

@@ -37,7 +37,7 @@ Points transform_points(const Points& points, const Eigen::Matrix4d& target_from
 struct PrincipalAxes {
   Vec3 centroid = Vec3::Zero();
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: major, middle, minor (right-handed)
-  Vec3 eigenvalues = Vec3::Zero();                      // descending, m^2
+  Vec3 eigenvalues = Vec3::Zero();                     // descending, m^2
 };
 PrincipalAxes principal_axes(const Points& points);
 

@@ -15,10 +15,10 @@ using Rgb = std::array<std::uint8_t, 3>;
 
 struct PointCloud {
   Points points;
-  std::vector<Rgb> colors;   // empty, or one per point
-  Points normals;            // empty, or one per point
-  std::string frame;         // e.g. "hand", "root", "canonical"; empty when unknown
-  Points viewpoints;         // where sensors saw these points from, in the same frame (may be empty)
+  std::vector<Rgb> colors;  // empty, or one per point
+  Points normals;           // empty, or one per point
+  std::string frame;        // e.g. "hand", "root", "canonical"; empty when unknown
+  Points viewpoints;        // where sensors saw these points from, in the same frame (may be empty)
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

@@ -13,72 +13,72 @@
 namespace toolinc {
 
 struct ToolFrameConfig {
-  double hand_radius = 0.06;        // m: points this close to the hand origin belong to the hand
-  double voxel_size = 0.004;        // m: resampling that makes every statistic density-independent
-  double isolated_radius = 0.01;    // m: resampled points with fewer than isolated_min_neighbors ...
-  int isolated_min_neighbors = 3;   //    ... others within isolated_radius are stray and dropped
-  int min_points = 100;             // fewer input points (outside the hand) is degenerate
-  double min_length = 0.04;         // m: the tool's extent along its major axis must reach this
-  double min_thickness = 0.001;     // m: RMS spread across the major axis (collinear) or across the
-                                    //    plane (planar) below this is degenerate
-  double handle_fraction = 0.5;     // share of the tool's length, from the hand end, fitted as handle
-  double handle_hand_skip = 0.2;    // share of the length at the hand end left out of the handle fit:
-                                    //    on a tilted grasp part of the hand survives the hand cut there
-                                    //    and tilts and widens the fitted cylinder
-  double handle_radial_factor = 1.5;// handle points lie within this times the median radius of the fit
+  double hand_radius = 0.06;          // m: points this close to the hand origin belong to the hand
+  double voxel_size = 0.004;          // m: resampling that makes every statistic density-independent
+  double isolated_radius = 0.01;      // m: resampled points with fewer than isolated_min_neighbors ...
+  int isolated_min_neighbors = 3;     //    ... others within isolated_radius are stray and dropped
+  int min_points = 100;               // fewer input points (outside the hand) is degenerate
+  double min_length = 0.04;           // m: the tool's extent along its major axis must reach this
+  double min_thickness = 0.001;       // m: RMS spread across the major axis (collinear) or across the
+                                      //    plane (planar) below this is degenerate
+  double handle_fraction = 0.5;       // share of the tool's length, from the hand end, fitted as handle
+  double handle_hand_skip = 0.2;      // share of the length at the hand end left out of the handle fit:
+                                      //    on a tilted grasp part of the hand survives the hand cut there
+                                      //    and tilts and widens the fitted cylinder
+  double handle_radial_factor = 1.5;  // handle points lie within this times the median radius of the fit
   int handle_iterations = 20;
-  double handle_residual_scale = 0.002; // m: Huber scale of the handle's cylinder fit (~ stereo noise)
-  double handle_solid_fraction = 0.1; // more of the handle's points than this inside half its radius
-                                    //    means a filled model (about 25%; a noisy surface has < 1%): its
-                                    //    principal axis is used instead of the cylinder's
-  double handle_max_radius = 0.03;  // m: a fitted handle cylinder wider than this is not trusted
-  double handle_section_length = 0.02; // m: the handle's radius is fitted per section of this length, so
-                                    //    a grip and a thinner shaft on the same axis do not tilt it
-  double symmetry_step_deg = 7.5;   // coarse sweep of the symmetry plane about the handle axis
-  double symmetry_tolerance = 0.01; // m: mirrored points this far from the cloud are fully asymmetric
-  int symmetry_samples = 400;       // points mirrored per score
-  int symmetry_normal_neighbors = 6; // a mirror image's distance is to the tangent plane of its
-                                    //    nearest point, the normal from this many neighbours
-  double symmetry_match_weight = 0.25; // a matched mirror image's distance / tolerance weighs this
-                                    //    much against an image where a sensor saw empty space (1)
-  double head_radius_factor = 2.5;  // effector-side points farther than this many handle radii from
-                                    //    the handle's axis are the head: the points mirrored
-  int min_head_points = 30;         // fewer head points than this is no head (a stick): all are mirrored
-  double head_line_elongation = 16.0; // a head whose points, seen along the handle, spread this many
-                                    //    times more (variance) along a line than across it is a bar:
-                                    //    the symmetry plane near that line contains it
-  double blade_flatness = 0.7;      // a blade (a flat or curled plate continuing the handle: shovel,
-                                    //    spatula), seen along the handle, is deep (RMS) at most this share
-                                    //    of its width: wider than deep (a scoop 0.2-0.5 with smear)
-  double blade_centring = 0.15;     // ... and centred on the handle's axis across it: the middle of its
-                                    //    extent lies within this share of its width from the axis (a
-                                    //    shovel's blade within 0.1; a hook or an L, reaching out on one
-                                    //    side, 0.25-0.5)
-  double blade_min_aspect = 0.5;    // ... and reaches along the handle at least this share of its width
-                                    //    (a shovel's blade 0.8-2, a spatula more; a rake's comb or a T's
-                                    //    bar 0.1-0.3): its tip is its far end
-  double front_band = 0.01;         // m: depth of the effector's front when telling a face (its points
-                                    //    grow like the depth) from a corner (like its square); deeper than the
-                                    //    noise lifts the foremost point (~3 sigma)
-  double symmetry_tie_margin = 0.05;// planes scoring within this of the best are equally symmetric
-  double symmetry_doubt_margin = 0.1; // a plane of another basin (30 degrees or more from the chosen one)
-                                    //    scoring within this of it is a rival: the mirror does not single
-                                    //    out the chosen plane, and find-tooltip reports the rival's tip
-  double stick_width = 0.02;        // m: a tool whose effector side stays this close to the handle's
-                                    //    axis has no head (a stick, however bent): its effector axis is
-                                    //    arbitrary. Heads stand out 2.5 cm (a flat shovel) to 13 cm.
-  double head_curl_min = 0.005;     // m: a head thinnest along the effector axis (blade, scoop) whose
-                                    //    edges rise this much above its middle faces its concave side
-                                    //    (about 3 sigma of the stereo noise)
-  double salience_quantile = 0.99;  // robust reach of the effector on each side of the handle
-  double salience_ratio = 1.5;      // the effector is salient when one reach exceeds the other by ...
-  double salience_min = 0.01;       // ... this ratio and this many metres
-  double grasp_reach = 0.10;        // m: the hand holds the handle, so the handle's axis passes within
-                                    //    this of the hand's origin (the original's grasp check: the tool
-                                    //    at most 10 cm from the hand); a farther axis is doubtful
-  double grasp_max_radius = 0.02;   // m: the iCub's hand closes on handles up to about 4 cm across; a
-                                    //    thicker fitted handle is not what it holds (a head, the hand or
-                                    //    smear in the fit): doubtful
+  double handle_residual_scale = 0.002;  // m: Huber scale of the handle's cylinder fit (~ stereo noise)
+  double handle_solid_fraction = 0.1;    // more of the handle's points than this inside half its radius
+                                         //    means a filled model (about 25%; a noisy surface has < 1%): its
+                                         //    principal axis is used instead of the cylinder's
+  double handle_max_radius = 0.03;       // m: a fitted handle cylinder wider than this is not trusted
+  double handle_section_length = 0.02;   // m: the handle's radius is fitted per section of this length, so
+                                         //    a grip and a thinner shaft on the same axis do not tilt it
+  double symmetry_step_deg = 7.5;        // coarse sweep of the symmetry plane about the handle axis
+  double symmetry_tolerance = 0.01;      // m: mirrored points this far from the cloud are fully asymmetric
+  int symmetry_samples = 400;            // points mirrored per score
+  int symmetry_normal_neighbors = 6;     // a mirror image's distance is to the tangent plane of its
+                                         //    nearest point, the normal from this many neighbours
+  double symmetry_match_weight = 0.25;   // a matched mirror image's distance / tolerance weighs this
+                                         //    much against an image where a sensor saw empty space (1)
+  double head_radius_factor = 2.5;       // effector-side points farther than this many handle radii from
+                                         //    the handle's axis are the head: the points mirrored
+  int min_head_points = 30;              // fewer head points than this is no head (a stick): all are mirrored
+  double head_line_elongation = 16.0;    // a head whose points, seen along the handle, spread this many
+                                         //    times more (variance) along a line than across it is a bar:
+                                         //    the symmetry plane near that line contains it
+  double blade_flatness = 0.7;           // a blade (a flat or curled plate continuing the handle: shovel,
+                                         //    spatula), seen along the handle, is deep (RMS) at most this share
+                                         //    of its width: wider than deep (a scoop 0.2-0.5 with smear)
+  double blade_centring = 0.15;          // ... and centred on the handle's axis across it: the middle of its
+                                         //    extent lies within this share of its width from the axis (a
+                                         //    shovel's blade within 0.1; a hook or an L, reaching out on one
+                                         //    side, 0.25-0.5)
+  double blade_min_aspect = 0.5;         // ... and reaches along the handle at least this share of its width
+                                         //    (a shovel's blade 0.8-2, a spatula more; a rake's comb or a T's
+                                         //    bar 0.1-0.3): its tip is its far end
+  double front_band = 0.01;              // m: depth of the effector's front when telling a face (its points
+                                         //    grow like the depth) from a corner (like its square); deeper than the
+                                         //    noise lifts the foremost point (~3 sigma)
+  double symmetry_tie_margin = 0.05;     // planes scoring within this of the best are equally symmetric
+  double symmetry_doubt_margin = 0.1;    // a plane of another basin (30 degrees or more from the chosen one)
+                                         //    scoring within this of it is a rival: the mirror does not single
+                                         //    out the chosen plane, and find-tooltip reports the rival's tip
+  double stick_width = 0.02;             // m: a tool whose effector side stays this close to the handle's
+                                         //    axis has no head (a stick, however bent): its effector axis is
+                                         //    arbitrary. Heads stand out 2.5 cm (a flat shovel) to 13 cm.
+  double head_curl_min = 0.005;          // m: a head thinnest along the effector axis (blade, scoop) whose
+                                         //    edges rise this much above its middle faces its concave side
+                                         //    (about 3 sigma of the stereo noise)
+  double salience_quantile = 0.99;       // robust reach of the effector on each side of the handle
+  double salience_ratio = 1.5;           // the effector is salient when one reach exceeds the other by ...
+  double salience_min = 0.01;            // ... this ratio and this many metres
+  double grasp_reach = 0.10;             // m: the hand holds the handle, so the handle's axis passes within
+                                         //    this of the hand's origin (the original's grasp check: the tool
+                                         //    at most 10 cm from the hand); a farther axis is doubtful
+  double grasp_max_radius = 0.02;        // m: the iCub's hand closes on handles up to about 4 cm across; a
+                                         //    thicker fitted handle is not what it holds (a head, the hand or
+                                         //    smear in the fit): doubtful
 };
 
 // What the head is, decided once from its points about the handle: it decides the tooltip's rule.
@@ -94,50 +94,50 @@ std::string to_string(HeadKind kind);
 HeadKind head_kind_from_string(const std::string& name);  // throws std::invalid_argument
 
 struct SymmetryCandidate {
-  double angle_deg;   // about the handle axis, from the middle principal axis
+  double angle_deg;  // about the handle axis, from the middle principal axis
   Vec3 normal;
-  double score;       // the sweep's score (by contradiction): 0 perfect mirror, 1 none
+  double score;  // the sweep's score (by contradiction): 0 perfect mirror, 1 none
 };
 
 struct ToolFrame {
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // hand_from_tool rotation: columns X, Y, Z
-  Vec3 origin = Vec3::Zero();                           // centre of mass, on the symmetry plane
-  Vec3 eigenvalues = Vec3::Zero();                      // of the resampled cloud, descending, m^2
+  Vec3 origin = Vec3::Zero();                          // centre of mass, on the symmetry plane
+  Vec3 eigenvalues = Vec3::Zero();                     // of the resampled cloud, descending, m^2
 
   // Diagnostics.
-  Vec3 centroid = Vec3::Zero();           // mean of the resampled points (before projection)
+  Vec3 centroid = Vec3::Zero();                             // mean of the resampled points (before projection)
   Eigen::Matrix3d principal = Eigen::Matrix3d::Identity();  // major, middle, minor axes
-  double handle_refinement_deg = 0.0;     // angle between the major axis and the refined handle axis
-  Vec3 handle_point = Vec3::Zero();       // a point on the handle's axis line
+  double handle_refinement_deg = 0.0;                       // angle between the major axis and the refined handle axis
+  Vec3 handle_point = Vec3::Zero();                         // a point on the handle's axis line
   int handle_points = 0;
-  double handle_radius = 0.0;             // m, of the handle's fitted cylinder
-  double handle_rms = 0.0;                // m, RMS radial residual of the handle points
-  bool handle_cylinder = true;            // false when the handle points are not a cylinder surface
+  double handle_radius = 0.0;                          // m, of the handle's fitted cylinder
+  double handle_rms = 0.0;                             // m, RMS radial residual of the handle points
+  bool handle_cylinder = true;                         // false when the handle points are not a cylinder surface
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
-  std::vector<SymmetryCandidate> tied_planes;  // every basin of the sweep scoring within the tie margin of
-                                               // the best, refined; the rules above chose one of them
-  std::vector<SymmetryCandidate> rival_planes; // planes of the sweep 30 degrees or more from the chosen one
-                                               // scoring within symmetry-doubt-margin of it, best first
-  double symmetry_score = 1.0;           // the chosen plane's score
-  double across_handle_score = 1.0;       // plane across the handle: reported, never eligible
+  std::vector<SymmetryCandidate> tied_planes;          // every basin of the sweep scoring within the tie margin of
+                                                       // the best, refined; the rules above chose one of them
+  std::vector<SymmetryCandidate> rival_planes;         // planes of the sweep 30 degrees or more from the chosen one
+                                                       // scoring within symmetry-doubt-margin of it, best first
+  double symmetry_score = 1.0;                         // the chosen plane's score
+  double across_handle_score = 1.0;                    // plane across the handle: reported, never eligible
   std::string symmetry_plane_rule;
   std::string handle_sign_rule;
   std::string effector_sign_rule;
-  double effector_reach_positive = 0.0;   // m, along +X from the handle axis
-  double effector_reach_negative = 0.0;   // m, along -X
+  double effector_reach_positive = 0.0;  // m, along +X from the handle axis
+  double effector_reach_negative = 0.0;  // m, along -X
   bool salient_effector = false;
-  bool effector_side_clear = true;        // salience or the head's curl decided the effector's side
-  bool head_is_blade = false;             // the head is a blade (see blade_flatness)
+  bool effector_side_clear = true;  // salience or the head's curl decided the effector's side
+  bool head_is_blade = false;       // the head is a blade (see blade_flatness)
   HeadKind head_kind = HeadKind::other;
   double head_length = 0.0, head_width = 0.0;  // m: the head's extent along the handle and across the plane
-  double hand_to_handle = 0.0;            // m: distance from the hand's origin to the handle's axis line
-  double head_extent = 0.0;               // m: how far the effector side stands out from the handle's axis
-                                          // (salience-quantile of its points' distances)
-  bool stick = false;                     // head_extent below stick-width: no head
-  double head_curl = 0.0;                 // m: how far the head's edges rise along +X above its middle,
-                                          // measured when the head is thinnest along X
+  double hand_to_handle = 0.0;                 // m: distance from the hand's origin to the handle's axis line
+  double head_extent = 0.0;                    // m: how far the effector side stands out from the handle's axis
+                                               // (salience-quantile of its points' distances)
+  bool stick = false;                          // head_extent below stick-width: no head
+  double head_curl = 0.0;                      // m: how far the head's edges rise along +X above its middle,
+                                               // measured when the head is thinnest along X
   int points_input = 0, points_outside_hand = 0, points_used = 0;
-  Confidence confidence;                  // whether the handle is the one held and the effector's side clear
+  Confidence confidence;  // whether the handle is the one held and the effector's side clear
 
   Eigen::Matrix4d hand_from_tool() const;
   // A blade or scoop continuing the handle works with its far end, not with its front.

@@ -19,21 +19,21 @@ std::string to_string(TooltipRule rule);
 
 struct TooltipConfig {
   TooltipRule rule = TooltipRule::weighted;
-  double tie_tolerance = 0.005;  // m: points scoring within this of the best are tied (~3 sigma of the
-                                 //    stereo noise); furthest: the tie goes to the point farthest from the hand
-  double effector_weight = 0.8;  // w of the weighted rule (the original's value)
-  int smoothing_neighbors = 10;  // weighted rule: tied points are compared with their distance in front
-                                 //    averaged over this many nearest points (noise down by about 3)
-  double density_radius = 0.02;  // m: a candidate needs more than min_neighbors points within this,
-  int min_neighbors = 20;        //    so isolated outliers are never the tooltip (the original's check)
-  double hand_radius = 0.06;     // m: points this close to the hand origin are ignored
-  double ambiguity_distance = 0.01; // m: an alternative tip this far from the chosen one makes the
-                                    //    tooltip ambiguous (the accuracy a tool's use needs)
-  double tip_edge_radius = 0.005;   // m: the surface's density at the tip is counted within this (a few
-                                    //    sampling spacings of a reconstruction)
-  double fringe_depth = 0.01;       // m: how deep a fringe of fattened or misregistered surface may lie
-                                    //    beyond the true edge (the robot's clouds: a tenth of their points
-                                    //    lie more than 11 mm off the surface); 0: no fringe
+  double tie_tolerance = 0.005;      // m: points scoring within this of the best are tied (~3 sigma of the
+                                     //    stereo noise); furthest: the tie goes to the point farthest from the hand
+  double effector_weight = 0.8;      // w of the weighted rule (the original's value)
+  int smoothing_neighbors = 10;      // weighted rule: tied points are compared with their distance in front
+                                     //    averaged over this many nearest points (noise down by about 3)
+  double density_radius = 0.02;      // m: a candidate needs more than min_neighbors points within this,
+  int min_neighbors = 20;            //    so isolated outliers are never the tooltip (the original's check)
+  double hand_radius = 0.06;         // m: points this close to the hand origin are ignored
+  double ambiguity_distance = 0.01;  // m: an alternative tip this far from the chosen one makes the
+                                     //    tooltip ambiguous (the accuracy a tool's use needs)
+  double tip_edge_radius = 0.005;    // m: the surface's density at the tip is counted within this (a few
+                                     //    sampling spacings of a reconstruction)
+  double fringe_depth = 0.01;        // m: how deep a fringe of fattened or misregistered surface may lie
+                                     //    beyond the true edge (the robot's clouds: a tenth of their points
+                                     //    lie more than 11 mm off the surface); 0: no fringe
 };
 
 // Another tip the rule could have given: on another symmetry plane that scored as well as the chosen
@@ -51,15 +51,15 @@ struct Tooltip {
   Vec3 surface_point = Vec3::Zero();     // the chosen cloud point before projection (hand frame)
   double edge_retreat_m = 0.0;           // how far behind surface_point the surface's edge lies (the fringe)
   double score = 0.0;
-  int candidates = 0;                    // effector-side points considered
-  int rejected_sparse = 0;               // better-scoring candidates rejected by the density check
-  int tied = 0;                          // dense candidates scoring within tie-tolerance of the best
-  double noise_m = 0.0;                  // RMS distance of the tip's neighbours from their plane
-  double uncertainty_m = 0.0;            // how far the tip would move under that noise: the farthest
-                                         // tied point whose tie-break is within 2 sigma of the best
+  int candidates = 0;          // effector-side points considered
+  int rejected_sparse = 0;     // better-scoring candidates rejected by the density check
+  int tied = 0;                // dense candidates scoring within tie-tolerance of the best
+  double noise_m = 0.0;        // RMS distance of the tip's neighbours from their plane
+  double uncertainty_m = 0.0;  // how far the tip would move under that noise: the farthest
+                               // tied point whose tie-break is within 2 sigma of the best
   std::vector<TooltipAlternative> alternatives;
-  bool ambiguous = false;                // an alternative lies farther than ambiguity-distance away
-  Confidence confidence;                 // the frame's, and whether another tip scores as well
+  bool ambiguous = false;  // an alternative lies farther than ambiguity-distance away
+  Confidence confidence;   // the frame's, and whether another tip scores as well
 };
 
 // How far back from point, along -direction, the surface's edge lies: where the density within

@@ -11,8 +11,7 @@ namespace toolinc {
 
 // Calls write(stream) on a temporary file next to path, then renames it to path. On any exception the
 // temporary file is removed and the exception propagates; path is left untouched.
-void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& write,
-                       bool binary = false);
+void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& write, bool binary = false);
 
 // fsync of a file or folder (so that what was written or renamed there is on disk); throws
 // InputError(reported, "cannot sync: ...").

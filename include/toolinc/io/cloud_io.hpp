@@ -19,8 +19,8 @@ struct CloudReadStats {
 PointCloud read_cloud(const std::string& path, CloudReadStats* stats = nullptr);
 
 struct PlyWriteOptions {
-  bool ascii = false;          // binary little-endian by default
-  std::string command;         // the producing command, recorded as a header comment
+  bool ascii = false;   // binary little-endian by default
+  std::string command;  // the producing command, recorded as a header comment
 };
 
 // Writes atomically (temporary file in the same folder, then rename). The frame goes in a

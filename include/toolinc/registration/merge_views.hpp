@@ -14,15 +14,15 @@ namespace toolinc {
 
 struct MergeConfig {
   IcpConfig icp;
-  double voxel_size = 0.002;         // m: the model's grid (the original's 2 mm)
-  double registration_voxel = 0.004; // m: views are resampled this coarsely for ICP (speed; the fit
-                                     //    is to the model's 2 mm surface all the same)
-  double max_translation = 0.10;     // m per axis: the original's feasibility check
-  double max_rotation_deg = 20.0;    // the original checks none, and so accepts flipped views
-  double min_inlier_ratio = 0.4;     // share of a view's points that must land on the model
-  int min_points = 300;              // a view with fewer points is rejected (the original's floor)
-  double clean_radius = 0.01;        // m: stray points with fewer than clean_min_neighbors within
-  int clean_min_neighbors = 20;      //    clean_radius are removed at the end (the original's values)
+  double voxel_size = 0.002;          // m: the model's grid (the original's 2 mm)
+  double registration_voxel = 0.004;  // m: views are resampled this coarsely for ICP (speed; the fit
+                                      //    is to the model's 2 mm surface all the same)
+  double max_translation = 0.10;      // m per axis: the original's feasibility check
+  double max_rotation_deg = 20.0;     // the original checks none, and so accepts flipped views
+  double min_inlier_ratio = 0.4;      // share of a view's points that must land on the model
+  int min_points = 300;               // a view with fewer points is rejected (the original's floor)
+  double clean_radius = 0.01;         // m: stray points with fewer than clean_min_neighbors within
+  int clean_min_neighbors = 20;       //    clean_radius are removed at the end (the original's values)
   // Called after each view with (views done, views in all); none by default. A merge of many views takes
   // minutes, so the executable shows this on a terminal (toolinc/app/progress.hpp).
   std::function<void(std::size_t done, std::size_t total)> progress;
@@ -30,7 +30,7 @@ struct MergeConfig {
 
 struct ViewMerge {
   bool accepted = false;
-  std::string reason;                       // why rejected, or "aligned"
+  std::string reason;                                        // why rejected, or "aligned"
   Eigen::Matrix4d correction = Eigen::Matrix4d::Identity();  // model_from_view found by ICP
   double translation_m[3] = {0, 0, 0};
   double rotation_deg = 0.0;
@@ -40,7 +40,7 @@ struct ViewMerge {
 };
 
 struct MergeResult {
-  PointCloud model;                 // in the hand frame estimated as the mean of the accepted views'
+  PointCloud model;  // in the hand frame estimated as the mean of the accepted views'
   Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the reference view's
   std::vector<ViewMerge> views;
 };

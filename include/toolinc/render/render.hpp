@@ -28,10 +28,10 @@ struct RenderScene {
 };
 
 struct RenderOptions {
-  int width = 1200;          // whole image; the legend strip takes legend_height at the bottom
+  int width = 1200;  // whole image; the legend strip takes legend_height at the bottom
   int height = 900;
   int legend_height = 80;
-  double axis_length = 0.05; // m, drawn length of each tool frame axis
+  double axis_length = 0.05;  // m, drawn length of each tool frame axis
 };
 
 // Colours (BGR) that tests look for.
@@ -47,9 +47,9 @@ std::string to_string(RenderPanel panel);
 
 struct PanelProjection {
   RenderPanel panel;
-  cv::Point pixel;   // whole-image pixel where the point is drawn
-  double depth;      // towards the viewer, m (larger is nearer)
-  bool inside;       // pixel within the panel's rectangle
+  cv::Point pixel;  // whole-image pixel where the point is drawn
+  double depth;     // towards the viewer, m (larger is nearer)
+  bool inside;      // pixel within the panel's rectangle
 };
 
 // Where a hand-frame point lands in each panel (in RenderPanel order) for the layout render_scene uses

@@ -25,9 +25,9 @@
 namespace toolinc {
 
 struct ReportView {
-  std::string file;            // as merge-views was given it
+  std::string file;  // as merge-views was given it
   bool accepted = false;
-  std::string reason;          // "reference", "aligned", or why rejected
+  std::string reason;  // "reference", "aligned", or why rejected
   int points = 0;
   Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
   double rotation_deg = 0, inlier_ratio = 0, inlier_rmse_m = 0;
@@ -39,18 +39,18 @@ struct ReportErrors {
 };
 
 struct SessionReport {
-  std::string name;                          // the outputs folder's name
-  std::vector<ReportView> views;             // the merge report's rows
-  std::string merge_failure;                 // the merge report's "failure" (empty when it worked)
+  std::string name;               // the outputs folder's name
+  std::vector<ReportView> views;  // the merge report's rows
+  std::string merge_failure;      // the merge report's "failure" (empty when it worked)
   int model_points = 0;
-  ToolFrame frame;                           // origin and axes
-  std::optional<bool> salient_effector;      // from the frame's diagnostics, when present
+  ToolFrame frame;                       // origin and axes
+  std::optional<bool> salient_effector;  // from the frame's diagnostics, when present
   std::optional<double> symmetry_score;
   Eigen::Vector3d tooltip = Eigen::Vector3d::Zero();          // hand frame
   Eigen::Vector3d tooltip_in_tool = Eigen::Vector3d::Zero();  // tool frame
   Eigen::Vector4d attach_axis_angle = Eigen::Vector4d::Zero();
-  std::optional<ReportErrors> errors;        // when evaluation.json exists
-  std::string model_png, sheet_png;          // PNG bytes
+  std::optional<ReportErrors> errors;  // when evaluation.json exists
+  std::string model_png, sheet_png;    // PNG bytes
 };
 
 // Reads and checks the folder's files; throws InputError naming the first missing or malformed one.

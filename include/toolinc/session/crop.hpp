@@ -22,10 +22,10 @@ struct CropConfig {
   // hands' frames are mirror images about the body's midplane.
   Eigen::Vector3d box_min{0.0, -0.40, -0.20};
   Eigen::Vector3d box_max{0.40, 0.0, 0.20};
-  double hand_radius = 0.08;      // m: points this close to the hand origin are the hand's (exploration value)
-  int outlier_neighbors = 10;     // statistical outlier removal: k ...
-  double outlier_std = 3.0;       // ... and the deviations allowed (the original's k 10, 3 sigma)
-  int min_points = 300;           // fewer left is a failure (exit 3)
+  double hand_radius = 0.08;   // m: points this close to the hand origin are the hand's (exploration value)
+  int outlier_neighbors = 10;  // statistical outlier removal: k ...
+  double outlier_std = 3.0;    // ... and the deviations allowed (the original's k 10, 3 sigma)
+  int min_points = 300;        // fewer left is a failure (exit 3)
   // Depth edges: block matching smears the nearer surface's disparity up to half its block past a depth
   // edge (fattening) and leaves pixels between the two depths (flying pixels). A mask pixel is dropped
   // when a pixel within edge_radius_px of it has a disparity lower by more than edge_jump_px per pixel of
@@ -40,9 +40,9 @@ struct CropConfig {
 };
 
 struct CropResult {
-  PointCloud cloud;              // hand frame, with the left image's colours
-  std::string mask_source;       // "blob.png" or "closest blob on the disparity"
-  std::string points_source;     // "points.pcd" or "disparity reprojection (approximate)"
+  PointCloud cloud;           // hand frame, with the left image's colours
+  std::string mask_source;    // "blob.png" or "closest blob on the disparity"
+  std::string points_source;  // "points.pcd" or "disparity reprojection (approximate)"
   int mask_pixels = 0, edge_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
 };
 

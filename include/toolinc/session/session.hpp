@@ -20,19 +20,19 @@ constexpr int kSessionFormatVersion = 1;
 struct CameraModel {
   int width = 320, height = 240;
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
-  int num_disparities = 96;                // d_px = value * num_disparities / 255
-  double baseline = 0.068;                 // m
+  int num_disparities = 96;               // d_px = value * num_disparities / 255
+  double baseline = 0.068;                // m
   // Disparity in pixels of an 8-bit disparity value; 0 means invalid.
   double disparity_px(int value) const { return value * num_disparities / 255.0; }
 };
 
 struct BlobInfo {
-  double cx = 0, cy = 0, area = 0;      // pixels
-  std::array<int, 4> roi{0, 0, 0, 0};   // tlx, tly, brx, bry
+  double cx = 0, cy = 0, area = 0;     // pixels
+  std::array<int, 4> roi{0, 0, 0, 0};  // tlx, tly, brx, bry
 };
 
 struct ViewRecord {
-  std::string dir;                       // relative to the session folder, e.g. "views/000"
+  std::string dir;  // relative to the session folder, e.g. "views/000"
   Eigen::Vector2d wrist_deg = Eigen::Vector2d::Zero();
   Eigen::Matrix4d root_from_hand = Eigen::Matrix4d::Identity();
   Eigen::Matrix4d root_from_camera = Eigen::Matrix4d::Identity();  // left eye, optical axes
@@ -42,22 +42,22 @@ struct ViewRecord {
 
 struct SessionInfo {
   std::string robot = "icub";
-  std::string hand = "right";            // "left" | "right"
+  std::string hand = "right";  // "left" | "right"
   std::optional<std::string> tool_label;
   CameraModel camera;
   std::vector<ViewRecord> views;
-  std::string created;                   // ISO 8601
+  std::string created;  // ISO 8601
   std::string recorder_name = "toolinc", recorder_version;
   std::string notes;
 };
 
 // The images and optional exact 3D points of one view.
 struct ViewData {
-  cv::Mat left;        // CV_8UC3, BGR as OpenCV loads it
-  cv::Mat disparity;   // CV_8UC1
-  cv::Mat blob;        // CV_8UC1 (255 = tool), or empty when blob.png is absent
-  Points points;       // organised root-frame XYZ, width * height row-major, NaN where not triangulated;
-                       // empty when points.pcd is absent
+  cv::Mat left;       // CV_8UC3, BGR as OpenCV loads it
+  cv::Mat disparity;  // CV_8UC1
+  cv::Mat blob;       // CV_8UC1 (255 = tool), or empty when blob.png is absent
+  Points points;      // organised root-frame XYZ, width * height row-major, NaN where not triangulated;
+                      // empty when points.pcd is absent
 };
 
 // Reads and validates session.json: format and version, camera, and every view.json (rigid poses, no

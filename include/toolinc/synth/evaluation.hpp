@@ -26,14 +26,14 @@ struct HeldToolErrors {
   // also makes lies in the cloud (the tip not seen, or points off the tool in front of it), not in the frame.
   double tooltip_true_frame_m = 0.0;
   double symmetry_plane_deg = 0.0;
-  bool confident = false;            // the tooltip's confidence.confident
-  std::string failure;               // the MethodError's reason when the method failed, else empty
+  bool confident = false;  // the tooltip's confidence.confident
+  std::string failure;     // the MethodError's reason when the method failed, else empty
 };
 
 // Holds `canonical` with `grasp`, removes the hand's points, adds noise, runs estimate_tool_frame and
 // find_tooltip, and compares with the ground truth.
-HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, TruthTip tip, const Eigen::Matrix4d& grasp,
-                                  double hand_radius, double noise_sigma, Rng& rng,
+HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry, TruthTip tip,
+                                  const Eigen::Matrix4d& grasp, double hand_radius, double noise_sigma, Rng& rng,
                                   const ToolFrameConfig& frame_config = {}, const TooltipConfig& tooltip_config = {});
 
 struct PipelineConfig {
@@ -44,11 +44,11 @@ struct PipelineConfig {
 };
 
 struct SessionErrors {
-  int views_rejected = 0;         // by crop-cloud (too few points) or merge-views
-  double model_median_m = 0.0;    // median distance from the merged model to the true surface
-  DistanceProfile model;          // the merged model's whole distance profile to the true surface
-  Points merged;                  // the merged model (hand frame), empty when the merge failed
-  HeldToolErrors tool;            // of the frame and tooltip; failure also says when the merge failed
+  int views_rejected = 0;       // by crop-cloud (too few points) or merge-views
+  double model_median_m = 0.0;  // median distance from the merged model to the true surface
+  DistanceProfile model;        // the merged model's whole distance profile to the true surface
+  Points merged;                // the merged model (hand frame), empty when the merge failed
+  HeldToolErrors tool;          // of the frame and tooltip; failure also says when the merge failed
 };
 
 // The configured tool's true surface in the canonical pose: a model's own points; a family's shape

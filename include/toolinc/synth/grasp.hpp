@@ -58,16 +58,16 @@ Points observe_in_hand(const Points& canonical, const Eigen::Matrix4d& hand_from
 // handle (a shovel, a spatula), whose tip is the blade's far end: the effector-side point farthest from
 // the hand, projected onto the symmetry plane.
 enum class TruthTip { weighted, far_end };
-TruthTip truth_tip_of(ToolFamily family);            // shovel and blade: far_end
+TruthTip truth_tip_of(ToolFamily family);             // shovel and blade: far_end
 TruthTip truth_tip_of_kind(const std::string& kind);  // a model's kind (model_kinds.hpp): shovel, spatula
 
 // The paper's definitions evaluated with the true frame.
 struct ToolGroundTruth {
   Eigen::Matrix4d hand_from_canonical = Eigen::Matrix4d::Identity();
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // true tool axes in the hand frame
-  Vec3 origin = Vec3::Zero();                           // model centroid on the symmetry plane, hand frame
-  std::vector<Vec3> tooltips;                           // hand frame; several when the tool's symmetry
-                                                        // makes either end of its head count
+  Vec3 origin = Vec3::Zero();                          // model centroid on the symmetry plane, hand frame
+  std::vector<Vec3> tooltips;                          // hand frame; several when the tool's symmetry
+                                                       // makes either end of its head count
   ToolSymmetry symmetry = ToolSymmetry::mirror;
   TruthTip tip = TruthTip::weighted;
 };

@@ -29,18 +29,18 @@ struct PartialViewConfig {
 // draws the dense rendering samples, rng the noise.
 Points render_partial_view(const SessionSimulatorConfig& scene, const PartialViewConfig& config, Rng& rng);
 
-
 // One accuracy case: a family's default shape with every dimension varied by up to +/-15%, held with a
 // random grasp from `range` and seen in one partial view; the model is the same shape sampled at its
 // default spacing (other samples than the rendered ones). Deterministic for (family, seed).
 struct PartialViewCase {
   ToolShape shape;
-  PointCloud model;        // canonical
-  Eigen::Matrix4d grasp;   // hand_from_canonical
-  Points view;             // hand frame
+  PointCloud model;       // canonical
+  Eigen::Matrix4d grasp;  // hand_from_canonical
+  Points view;            // hand frame
   ToolGroundTruth truth;
 };
-PartialViewCase make_partial_view_case(ToolFamily family, std::uint32_t seed, const GraspRange& range = any_grasp_range(),
+PartialViewCase make_partial_view_case(ToolFamily family, std::uint32_t seed,
+                                       const GraspRange& range = any_grasp_range(),
                                        const PartialViewConfig& config = {});
 // The same for a canonical model (e.g. a CAD model read from a file) with the given symmetry: the model
 // itself is rendered (its points as the dense samples) and is the case's model. Deterministic for

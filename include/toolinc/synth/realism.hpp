@@ -18,10 +18,10 @@ namespace toolinc {
 
 // A cloud against the true surface and tooltip of the tool it shows (both in the cloud's frame).
 struct CloudFigures {
-  DistanceProfile accuracy;        // each cloud point's distance to the true surface
-  double coverage_5mm = 0;         // share of the true surface's points within 5 mm of the cloud
-  double coverage_10mm = 0;        // ... and within 10 mm
-  double tip_gap_m = 0;            // the true tooltip's distance to the nearest cloud point
+  DistanceProfile accuracy;  // each cloud point's distance to the true surface
+  double coverage_5mm = 0;   // share of the true surface's points within 5 mm of the cloud
+  double coverage_10mm = 0;  // ... and within 10 mm
+  double tip_gap_m = 0;      // the true tooltip's distance to the nearest cloud point
 };
 // The tip gap as tooltip_error measures it: for a round stick, any turn about the handle counts.
 CloudFigures cloud_figures(const Points& cloud, const Points& true_surface, const ToolGroundTruth& truth);

@@ -27,9 +27,9 @@ using Colour = Eigen::Vector3f;
 
 // The tool as it is rendered: dense surface samples in the canonical pose, with colours.
 struct RenderModel {
-  Points points, normals;     // normals may be empty
+  Points points, normals;  // normals may be empty
   std::vector<Colour> colours;
-  double spacing = 0;         // m, typical distance between neighbouring samples
+  double spacing = 0;  // m, typical distance between neighbouring samples
 };
 
 // The configured procedural shape sampled at render_spacing, or the configured model as it is.
@@ -42,8 +42,11 @@ struct Render {
   std::vector<Surface> surface;
   std::vector<Colour> colour;
   Render(int w, int h)
-      : width(w), height(h), depth(static_cast<std::size_t>(w) * h, std::numeric_limits<double>::infinity()),
-        surface(depth.size(), Surface::nothing), colour(depth.size(), Colour::Zero()) {}
+      : width(w),
+        height(h),
+        depth(static_cast<std::size_t>(w) * h, std::numeric_limits<double>::infinity()),
+        surface(depth.size(), Surface::nothing),
+        colour(depth.size(), Colour::Zero()) {}
   void offer(int u, int v, double z, Surface what, const Colour& c) {
     const std::size_t i = static_cast<std::size_t>(v) * width + u;
     if (z < depth[i]) depth[i] = z, surface[i] = what, colour[i] = c;
@@ -74,8 +77,8 @@ struct Lighting {
 
 // The tool by splatting its samples, each over the pixels within its footprint; shaded by `lighting`
 // (Lambertian) when given, else by the cosine between the surface and the ray.
-void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical,
-                 Render& render, const Lighting* lighting = nullptr);
+void render_tool(const RenderModel& model, const CameraModel& camera, const Pose& camera_from_canonical, Render& render,
+                 const Lighting* lighting = nullptr);
 
 // The whole scene: table, wall and hand by ray casting, then the tool held with config.hand_from_canonical;
 // with config.stereo sgbm, textured and lit as config says.

@@ -30,7 +30,7 @@ CameraModel icub_camera();
 // direction and a rotation of `rotation_deg` about a random axis, both drawn from the session's seed.
 struct GrossError {
   std::size_t view = 0;
-  double translation = 0.0;    // m
+  double translation = 0.0;  // m
   double rotation_deg = 0.0;
 };
 
@@ -50,9 +50,9 @@ struct SessionSimulatorConfig {
   std::string model_name;
   ToolSymmetry model_symmetry = ToolSymmetry::mirror;
   Eigen::Matrix4d hand_from_canonical = Eigen::Matrix4d::Identity();  // the grasp
-  std::string hand = "right";                                          // "left" | "right"
+  std::string hand = "right";                                         // "left" | "right"
   std::optional<std::string> tool_label;
-  std::vector<Eigen::Vector2d> poses = paper_exploration_poses();      // wrist (X, Y) degrees per view
+  std::vector<Eigen::Vector2d> poses = paper_exploration_poses();  // wrist (X, Y) degrees per view
 
   // Recorded root_from_hand = true * error, per view: N(0, kinematic_error_m) per axis and a rotation of
   // N(0, kinematic_error_deg) about a random axis (the arm's calibration and encoder errors).
@@ -87,8 +87,8 @@ struct SessionSimulatorConfig {
   // Sessions are recorded on different days: the light's brightness (+/- this share) and the wall's and
   // table's tint (+/- half of it per channel) drawn by the seed. 0: always the same scene.
   double scene_variation = 0.15;
-  bool write_points = true;          // points.pcd
-  bool write_blob = true;            // blob.png and the view's blob record
+  bool write_points = true;  // points.pcd
+  bool write_blob = true;    // blob.png and the view's blob record
 
   CameraModel camera = icub_camera();
   // The left eye in the root frame, the head bent down towards the hand about 46 cm away: at 320x240
@@ -99,8 +99,8 @@ struct SessionSimulatorConfig {
   // enclose the handle's first 5 cm when the grasp puts the handle elsewhere.
   Eigen::Vector3d hand_box_min{-0.045, -0.05, -0.02};
   Eigen::Vector3d hand_box_max{0.045, 0.02, 0.02};
-  double table_height = -0.05;  // root z of the table top
-  double wall_distance = 1.0;   // a wall across root x = -wall_distance, in front of the robot
+  double table_height = -0.05;     // root z of the table top
+  double wall_distance = 1.0;      // a wall across root x = -wall_distance, in front of the robot
   double render_spacing = 0.0007;  // m, surface sampling of a procedural tool for rendering
 
   std::string created = "2026-01-01T00:00:00Z";

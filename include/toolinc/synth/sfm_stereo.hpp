@@ -11,16 +11,16 @@
 namespace toolinc {
 
 struct SfmStereoConfig {
-  int num_disparities = 96;      // SFM: 96 at width <= 320, else 128
-  int block_size = 7;            // SFM's SADWindowSize
+  int num_disparities = 96;  // SFM: 96 at width <= 320, else 128
+  int block_size = 7;        // SFM's SADWindowSize
   int min_disparity = 0;
   int uniqueness_ratio = 15;     // %
   int speckle_window_size = 50;  // px
   int speckle_range = 16;        // in 16x disparity units (1 px)
   int pre_filter_cap = 63;
-  int disp12_max_diff = 0;       // OpenCV treats <= 0 as 1 px of left-right check
-  bool full_dp = true;           // SFM's useBestDisp: MODE_HH (8 paths) rather than MODE_SGBM (5)
-  bool bilateral = true;         // the published 8-bit disparity through the bilateral grid ...
+  int disp12_max_diff = 0;               // OpenCV treats <= 0 as 1 px of left-right check
+  bool full_dp = true;                   // SFM's useBestDisp: MODE_HH (8 paths) rather than MODE_SGBM (5)
+  bool bilateral = true;                 // the published 8-bit disparity through the bilateral grid ...
   double bilateral_sigma_colour = 10.0;  // ... of these sigmas (disparity levels, pixels)
   double bilateral_sigma_space = 10.0;
 };

@@ -25,14 +25,14 @@ enum class ToolSymmetry {
 
 struct ToolShape {
   ToolFamily family = ToolFamily::hoe;
-  double handle_length = 0.20;  // m, from the origin along -Y to where the head starts
-  double handle_radius = 0.010; // m
-  double head_length = 0.10;    // m, reach of the head towards +X (hoe blade, hook, L bar, rake teeth,
-                                //    shovel scoop depth is head_length / 5); full length along X for
-                                //    the T bar and the flat top
-  double head_width = 0.08;     // m, extent across Z (hoe blade, rake bar, shovel blade, flat top)
-  double head_height = 0.04;    // m, extent along Y (hoe blade, hook return, shovel blade length)
-  double spacing = 0.002;       // m, mean distance between neighbouring surface samples
+  double handle_length = 0.20;   // m, from the origin along -Y to where the head starts
+  double handle_radius = 0.010;  // m
+  double head_length = 0.10;     // m, reach of the head towards +X (hoe blade, hook, L bar, rake teeth,
+                                 //    shovel scoop depth is head_length / 5); full length along X for
+                                 //    the T bar and the flat top
+  double head_width = 0.08;      // m, extent across Z (hoe blade, rake bar, shovel blade, flat top)
+  double head_height = 0.04;     // m, extent along Y (hoe blade, hook return, shovel blade length)
+  double spacing = 0.002;        // m, mean distance between neighbouring surface samples
 };
 
 std::vector<ToolFamily> all_families();

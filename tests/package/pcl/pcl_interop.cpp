@@ -22,7 +22,8 @@ int main() {
   cloud.frame = "hand";
   for (int i = 0; i <= 110; ++i)
     for (int k = 0; k < 8; ++k)
-      cloud.points.emplace_back(float(0.01 * std::cos(k * 0.785)), float(-0.08 - 0.002 * i), float(0.01 * std::sin(k * 0.785)));
+      cloud.points.emplace_back(float(0.01 * std::cos(k * 0.785)), float(-0.08 - 0.002 * i),
+                                float(0.01 * std::sin(k * 0.785)));
   for (int i = 0; i <= 40; ++i)
     for (int j = -15; j <= 15; ++j) cloud.points.emplace_back(float(0.002 * i), float(-0.30), float(0.002 * j));
   for (std::size_t i = 0; i < cloud.size(); ++i)
@@ -33,7 +34,8 @@ int main() {
   auto rgb = toolinc::to_pcl<pcl::PointXYZRGB>(cloud, &dropped);
   expect(rgb.size() == cloud.size() && rgb.is_dense, "to_pcl keeps every point");
   expect(dropped == 1, "to_pcl says it drops the second viewpoint");
-  expect((rgb.sensor_origin_.head<3>().cast<double>() - cloud.viewpoints[0]).norm() < 1e-6, "sensor origin = first viewpoint");
+  expect((rgb.sensor_origin_.head<3>().cast<double>() - cloud.viewpoints[0]).norm() < 1e-6,
+         "sensor origin = first viewpoint");
   expect(rgb[5].r == 5 && rgb[5].g == 0 && rgb[5].b == 200, "colours carried");
 
   // A hole of an organised cloud (NaN) is dropped on the way back.
@@ -50,13 +52,16 @@ int main() {
   expect(same, "points back exactly (float coordinates)");
 
   // PointXYZ: no colours; PCL's default sensor origin (zero) is no viewpoint.
-  pcl::PointCloud<pcl::PointXYZ> xyz = toolinc::to_pcl<pcl::PointXYZ>(toolinc::PointCloud{cloud.points, {}, {}, "hand", {}});
+  pcl::PointCloud<pcl::PointXYZ> xyz =
+      toolinc::to_pcl<pcl::PointXYZ>(toolinc::PointCloud{cloud.points, {}, {}, "hand", {}});
   expect(xyz.sensor_origin_.isZero(), "no viewpoint, zero sensor origin");
   const toolinc::PointCloud plain = toolinc::from_pcl(xyz);
-  expect(!plain.has_colors() && plain.viewpoints.empty() && plain.size() == cloud.size(), "PointXYZ back: no colours, no viewpoint");
+  expect(!plain.has_colors() && plain.viewpoints.empty() && plain.size() == cloud.size(),
+         "PointXYZ back: no colours, no viewpoint");
 
   // The frame and tooltip of the PCL cloud are those of the toolinc cloud with the same viewpoint.
-  const auto single = toolinc::to_pcl<pcl::PointXYZ>(toolinc::PointCloud{cloud.points, {}, {}, "hand", {cloud.viewpoints[0]}});
+  const auto single =
+      toolinc::to_pcl<pcl::PointXYZ>(toolinc::PointCloud{cloud.points, {}, {}, "hand", {cloud.viewpoints[0]}});
   const toolinc::ToolFrame frame = toolinc::estimate_tool_frame(single);
   const toolinc::ToolFrame direct = toolinc::estimate_tool_frame(cloud.points, {}, {cloud.viewpoints[0]});
   expect((frame.hand_from_tool() - direct.hand_from_tool()).cwiseAbs().maxCoeff() < 1e-9, "PCL frame = toolinc frame");

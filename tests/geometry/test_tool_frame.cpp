@@ -1,0 +1,462 @@
+// Accuracy of estimate-frame and find-tooltip against ground truth (issue: foundation and the tool
+// frame). Tolerances: noise sigma 1.5 mm per coordinate on thousands of points leaves the handle fit's
+// angle error well under a degree, so 3 degrees bounds the method's bias, not the noise; the tooltip is
+// one surface point, whose noise (about 3 sigma along the effector axis at the front) is ~5 mm, hence
+// 10 mm in 97% of cases and never beyond 20 mm.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "support/synthetic_cases.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/core/rigid.hpp"
+#include "toolinc/frame/tool_frame.hpp"
+#include "toolinc/frame/tooltip.hpp"
+#include "toolinc/synth/evaluation.hpp"
+
+using namespace toolinc;
+using toolinc::testing::make_held_tool;
+
+namespace {
+
+constexpr int kGraspsPerFamily = 24;
+
+// A family's tool held with the seed's grasp and evaluated as evaluate-models does (6 cm hand cut,
+// sigma 1.5 mm); the noise's seed is the grasp's index.
+std::pair<toolinc::testing::HeldToolCase, HeldToolErrors> evaluate_grasp(ToolFamily family, std::uint32_t seed, int g) {
+  auto held = make_held_tool(family, seed);
+  Rng noise(static_cast<std::uint32_t>(g));
+  const HeldToolErrors e =
+      evaluate_held_tool(held.model.points, symmetry_of(family), truth_tip_of(family), held.grasp, 0.06, 0.0015, noise);
+  return {std::move(held), e};
+}
+
+struct FamilyStats {
+  int cases = 0, tips_within_10mm = 0;
+  double worst_handle_deg = 0.0, worst_tip = 0.0;
+};
+
+}  // namespace
+
+TEST(ToolFrameAccuracy, EveryFamilyManyGrasps) {
+  std::map<std::string, FamilyStats> stats;
+  int cases = 0, within_10mm = 0;
+  for (ToolFamily family : all_families()) {
+    for (int g = 0; g < kGraspsPerFamily; ++g) {
+      SCOPED_TRACE(to_string(family) + " grasp " + std::to_string(g));
+      const auto [held, e] = evaluate_grasp(family, 1000u + static_cast<std::uint32_t>(g), g);
+      ASSERT_TRUE(e.failure.empty()) << e.failure;
+      EXPECT_TRUE(e.right_handed);
+      EXPECT_LE(e.handle_axis_deg, 3.0);
+      if (has_salient_effector(family)) EXPECT_TRUE(e.effector_sign_right);
+      EXPECT_LE(e.tooltip_m, 0.020);
+      auto& s = stats[to_string(family)];
+      ++s.cases;
+      s.worst_handle_deg = std::max(s.worst_handle_deg, e.handle_axis_deg);
+      s.worst_tip = std::max(s.worst_tip, e.tooltip_m);
+      if (e.tooltip_m <= 0.010) ++s.tips_within_10mm, ++within_10mm;
+      ++cases;
+    }
+  }
+  for (const auto& [name, s] : stats)
+    std::printf("%-9s cases %3d  worst handle %.2f deg  worst tooltip %.1f mm  within 10 mm %d\n", name.c_str(),
+                s.cases, s.worst_handle_deg, 1000 * s.worst_tip, s.tips_within_10mm);
+  EXPECT_GE(within_10mm, static_cast<int>(0.97 * cases)) << within_10mm << " of " << cases;
+}
+
+// Shapes of real tools the regression families never had: a flat spatula (its symmetry plane is across
+// the blade, its tip the blade's far end), a square plate and a four-armed star (any of four tips). The
+// same noise and hand cut; the floors are the real-tools issue's: tooltip within 10 mm and handle axis
+// within 3 degrees in 95 % of cases.
+TEST(ToolFrameAccuracy, RealShapesManyGrasps) {
+  int cases = 0, within_10mm = 0, handle_within_3deg = 0, blade_planes_right = 0, blades = 0;
+  for (ToolFamily family : real_shape_families()) {
+    for (int g = 0; g < kGraspsPerFamily; ++g) {
+      SCOPED_TRACE(to_string(family) + " grasp " + std::to_string(g));
+      const auto [held, e] = evaluate_grasp(family, 2000u + static_cast<std::uint32_t>(g), g);
+      ASSERT_TRUE(e.failure.empty()) << e.failure;
+      EXPECT_TRUE(e.right_handed);
+      within_10mm += e.tooltip_m <= 0.010;
+      handle_within_3deg += e.handle_axis_deg <= 3.0;
+      ++cases;
+      if (family == ToolFamily::blade) {  // the plane across the blade: canonical Z, not the blade's own
+        const ToolFrame frame = estimate_tool_frame(held.observed);
+        ++blades;
+        blade_planes_right +=
+            frame.head_is_blade &&
+            std::abs(frame.symmetry_axis().dot(held.grasp.topLeftCorner<3, 3>().col(2))) >= std::cos(10 * M_PI / 180);
+      }
+    }
+  }
+  std::printf(
+      "real shapes: %d of %d tooltips within 10 mm, %d handle axes within 3 deg, %d of %d blades' planes "
+      "across the blade\n",
+      within_10mm, cases, handle_within_3deg, blade_planes_right, blades);
+  EXPECT_GE(within_10mm, static_cast<int>(0.95 * cases)) << within_10mm << " of " << cases;
+  EXPECT_GE(handle_within_3deg, static_cast<int>(0.95 * cases)) << handle_within_3deg << " of " << cases;
+  EXPECT_GE(blade_planes_right, static_cast<int>(0.95 * blades)) << blade_planes_right << " of " << blades;
+}
+
+// A real scoop's belly often bulges behind its handle's axis (the lab's SHO1), so it reaches farther
+// backwards than forwards; its edges still curl towards its working, concave side. The generated
+// shovel, and the same with its blade lowered by the scoop's depth (belly behind the handle), must
+// both face +X, and their tips be right.
+TEST(ToolFrameAccuracy, ScoopsFaceTheirConcaveSideWhereverTheirBellyReaches) {
+  for (const double lowered : {0.0, 0.02}) {
+    int sign_right = 0, within_10mm = 0;
+    for (int g = 0; g < kGraspsPerFamily; ++g) {
+      SCOPED_TRACE("blade lowered " + std::to_string(lowered) + " grasp " + std::to_string(g));
+      auto held = make_held_tool(ToolFamily::shovel, 3000u + static_cast<std::uint32_t>(g));
+      Points scoop = held.model.points;
+      for (auto& p : scoop)
+        if (p.y() < -held.shape.handle_length) p.x() -= lowered;
+      Rng noise(static_cast<std::uint32_t>(g));
+      const HeldToolErrors e =
+          evaluate_held_tool(scoop, ToolSymmetry::mirror, TruthTip::far_end, held.grasp, 0.06, 0.0015, noise);
+      ASSERT_TRUE(e.failure.empty()) << e.failure;
+      sign_right += e.effector_sign_right;
+      within_10mm += e.tooltip_m <= 0.010;
+    }
+    std::printf("scoop lowered by %.0f mm: effector sign right %d of %d, tooltips within 10 mm %d\n", 1000 * lowered,
+                sign_right, kGraspsPerFamily, within_10mm);
+    EXPECT_GE(sign_right, kGraspsPerFamily - 1);
+    EXPECT_GE(within_10mm, static_cast<int>(0.95 * kGraspsPerFamily));
+  }
+}
+
+// A bent stick has no head: its effector axis is arbitrary, so a bump along its shaft must not be
+// taken for the tip. The generated stick bowed sideways by up to 6 mm (a sine arch, straight at both
+// ends): a stick to the frame, its handle along its chord, its tip at its far end (any turn about the
+// handle counts, as for a round stick).
+TEST(ToolFrameAccuracy, BentSticksTakeTheirFarEnd) {
+  int sticks = 0, within_10mm = 0, handle_within_3deg = 0;
+  for (int g = 0; g < kGraspsPerFamily; ++g) {
+    SCOPED_TRACE("grasp " + std::to_string(g));
+    auto held = make_held_tool(ToolFamily::stick, 4000u + static_cast<std::uint32_t>(g));
+    double far_y = 0.0;
+    for (const auto& p : held.model.points) far_y = std::min(far_y, p.y());
+    Points bent = held.model.points;
+    for (auto& p : bent) p.x() += 0.006 * std::sin(M_PI * p.y() / far_y);
+    Rng noise(static_cast<std::uint32_t>(g));
+    const Points observed = observe_in_hand(bent, held.grasp, 0.06, 0.0015, noise);
+    const ToolGroundTruth truth = tool_ground_truth(bent, ToolSymmetry::axial, TruthTip::weighted, held.grasp);
+    const ToolFrame frame = estimate_tool_frame(observed);
+    const Tooltip tip = find_tooltip(observed, frame);
+    sticks += frame.stick;
+    within_10mm += tooltip_error(truth, tip.position) <= 0.010;
+    handle_within_3deg += handle_axis_error_deg(truth, frame.handle_axis()) <= 3.0;
+  }
+  std::printf("bent sticks: %d of %d taken for sticks, %d tooltips within 10 mm, %d handle axes within 3 deg\n", sticks,
+              kGraspsPerFamily, within_10mm, handle_within_3deg);
+  EXPECT_EQ(sticks, kGraspsPerFamily);
+  EXPECT_GE(within_10mm, static_cast<int>(0.95 * kGraspsPerFamily));
+  EXPECT_GE(handle_within_3deg, static_cast<int>(0.95 * kGraspsPerFamily));
+}
+
+TEST(ToolFrameAccuracy, TiedSymmetryPlanesAreReportedWithTheirTips) {
+  // A T mirrors across the plane along its bar and the one across it: the tooltip names the other
+  // plane's tip (the bar's side, half a bar away) and says the choice was the rule's. A hook mirrors
+  // across its own plane only.
+  const auto t_bar = make_held_tool(ToolFamily::t_bar, 5);
+  const Tooltip t = find_tooltip(t_bar.observed, estimate_tool_frame(t_bar.observed));
+  const auto plane = std::find_if(t.alternatives.begin(), t.alternatives.end(),
+                                  [](const TooltipAlternative& a) { return a.source == "tied symmetry plane"; });
+  ASSERT_NE(plane, t.alternatives.end());
+  EXPECT_GT((plane->position - t.position).norm(), 0.03);
+  EXPECT_TRUE(t.ambiguous);
+  const auto hook = make_held_tool(ToolFamily::hook, 5);
+  const ToolFrame hook_frame = estimate_tool_frame(hook.observed);
+  EXPECT_EQ(hook_frame.tied_planes.size(), 1u);
+  const Tooltip h = find_tooltip(hook.observed, hook_frame);
+  EXPECT_FALSE(h.ambiguous);
+  // The uncertainty is of the order of the noise, not of the tool.
+  EXPECT_GT(h.uncertainty_m, 0.0);
+  EXPECT_LT(h.uncertainty_m, 0.01);
+  EXPECT_GT(h.noise_m, 0.0005);
+  EXPECT_LT(h.noise_m, 0.003);
+}
+
+TEST(ToolFrameAccuracy, FourfoldTruthHasFourTips) {
+  const auto held = make_held_tool(ToolFamily::square_plate, 9);
+  ASSERT_EQ(held.truth.tooltips.size(), 4u);
+  for (std::size_t k = 1; k < 4; ++k) {  // a quarter turn apart about the handle, at the same height
+    const Vec3 a =
+        held.grasp.topLeftCorner<3, 3>().transpose() * (held.truth.tooltips[k - 1] - held.grasp.topRightCorner<3, 1>());
+    const Vec3 b =
+        held.grasp.topLeftCorner<3, 3>().transpose() * (held.truth.tooltips[k] - held.grasp.topRightCorner<3, 1>());
+    EXPECT_NEAR(a.y(), b.y(), 1e-9);
+    EXPECT_NEAR(Vec3(a.x(), 0, a.z()).dot(Vec3(b.x(), 0, b.z())), 0.0, 1e-9);
+  }
+}
+
+TEST(ToolFrameAccuracy, SalientEffectorIsDetectedWhereItExists) {
+  for (ToolFamily family : all_families()) {
+    const auto held = make_held_tool(family, 77);
+    EXPECT_EQ(estimate_tool_frame(held.observed).salient_effector, has_salient_effector(family)) << to_string(family);
+  }
+}
+
+TEST(ToolFrameAccuracy, MeasuredSymmetryMatchesTheFamilies) {
+  for (auto families : {all_families(), real_shape_families()})
+    for (ToolFamily family : families)
+      EXPECT_EQ(measure_symmetry(generate_tool(default_shape(family), 1).points), symmetry_of(family))
+          << to_string(family);
+}
+
+TEST(ToolFrameAccuracy, FrameIsRightHandedAndDeterministic) {
+  const auto held = make_held_tool(ToolFamily::hook, 7);
+  const ToolFrame a = estimate_tool_frame(held.observed);
+  const ToolFrame b = estimate_tool_frame(held.observed);
+  EXPECT_EQ(a.axes, b.axes);
+  EXPECT_EQ(a.origin, b.origin);
+  EXPECT_NEAR(a.axes.determinant(), 1.0, 1e-12);
+}
+
+TEST(ToolFrameAccuracy, StickTooltipIsAtTheFarEndNotMidShaft) {
+  // The original's mid-plane bug put a stick's tooltip mid-shaft; here the across-handle plane is
+  // never eligible, so the tooltip must be near the far end for every grasp.
+  for (int g = 0; g < 10; ++g) {
+    const auto held = make_held_tool(ToolFamily::stick, 50u + g);
+    const ToolFrame frame = estimate_tool_frame(held.observed);
+    const Tooltip tip = find_tooltip(held.observed, frame);
+    const Vec3 in_canonical =
+        held.grasp.topLeftCorner<3, 3>().transpose() * (tip.position - held.grasp.topRightCorner<3, 1>());
+    const double length = held.shape.handle_length + held.shape.head_height;
+    EXPECT_NEAR(in_canonical.y(), -length, 0.01) << "grasp " << g;
+  }
+}
+
+TEST(ToolFrameAccuracy, WeightedRuleUsesItsWeight) {
+  // With weight 1 the weighted rule is pure "in front of the effector plane"; with weight 0 it is pure
+  // distance from the hand: the two must pick different points on a hoe, and weight 0 the farthest one.
+  const auto held = make_held_tool(ToolFamily::hoe, 3);
+  const ToolFrame frame = estimate_tool_frame(held.observed);
+  TooltipConfig front_only, distance_only;
+  front_only.rule = distance_only.rule = TooltipRule::weighted;
+  front_only.effector_weight = 1.0;
+  distance_only.effector_weight = 0.0;
+  const Tooltip a = find_tooltip(held.observed, frame, front_only);
+  const Tooltip b = find_tooltip(held.observed, frame, distance_only);
+  EXPECT_GT((a.surface_point - b.surface_point).norm(), 0.005);
+  double farthest = 0.0;
+  for (const auto& p : held.observed) farthest = std::max(farthest, p.norm());
+  EXPECT_NEAR(b.surface_point.norm(), farthest, 0.005);
+}
+
+TEST(ToolFrameAccuracy, IsolatedOutlierIsNeverTheTooltip) {
+  auto held = make_held_tool(ToolFamily::hoe, 11);
+  const ToolFrame frame = estimate_tool_frame(held.observed);
+  const Tooltip clean = find_tooltip(held.observed, frame);
+  const Vec3 outlier = clean.position + 0.05 * frame.effector_axis();
+  held.observed.push_back(outlier);
+  const Tooltip with_outlier = find_tooltip(held.observed, frame);
+  EXPECT_LT((with_outlier.position - clean.position).norm(), 1e-9);
+  EXPECT_GE(with_outlier.rejected_sparse, 1);
+}
+
+TEST(ToolFrameAccuracy, HandleThickerThanTheHandHoldsIsDoubtful) {
+  // The same hoe with its handle 1 cm and 3 cm in radius: the thin one raises no handle doubt, the
+  // thick one is doubtful because of it.
+  for (const double radius : {0.01, 0.03}) {
+    ToolShape shape = default_shape(ToolFamily::hoe);
+    shape.handle_radius = radius;
+    Rng rng(5);
+    const Points observed = observe_in_hand(generate_tool(shape, 5).points, random_grasp({}, rng), 0.06, 0.0015, rng);
+    const ToolFrame frame = estimate_tool_frame(observed);
+    const bool doubted =
+        std::any_of(frame.confidence.doubts.begin(), frame.confidence.doubts.end(),
+                    [](const std::string& d) { return d.find("grasp-max-radius") != std::string::npos; });
+    EXPECT_EQ(doubted, radius > ToolFrameConfig{}.grasp_max_radius) << radius << " m, fitted " << frame.handle_radius;
+    if (doubted) EXPECT_FALSE(frame.confidence.confident);
+  }
+}
+
+TEST(ToolFrameDegenerate, ReasonsAreGiven) {
+  const auto expect_method_error = [](const Points& points, const std::string& word) {
+    try {
+      estimate_tool_frame(points);
+      ADD_FAILURE() << "expected a MethodError mentioning " << word;
+    } catch (const MethodError& e) {
+      EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+    }
+  };
+  expect_method_error({Vec3(0.1, -0.1, 0), Vec3(0.1, -0.11, 0), Vec3(0.1, -0.12, 0)}, "too few");
+  Points line, plane, inside;
+  for (int i = 0; i < 500; ++i) {
+    line.emplace_back(0.1, -0.1 - 0.0004 * i, 0.0);
+    plane.emplace_back(0.1 + 0.0005 * (i % 25), -0.1 - 0.004 * (i / 25), 0.0);
+    inside.emplace_back(0.01, -0.0001 * i, 0.0);
+  }
+  expect_method_error(line, "collinear");
+  expect_method_error(plane, "planar");
+  expect_method_error(inside, "hand radius");
+}
+
+TEST(ToolFrameDegenerate, HandSkipMustLeaveAHandle) {
+  ToolFrameConfig config;
+  config.handle_hand_skip = config.handle_fraction;
+  EXPECT_THROW(estimate_tool_frame(make_held_tool(ToolFamily::hook, 3).observed, config), std::invalid_argument);
+}
+
+// A hoe's head mirrors across one plane only; a flat top's square plate across two at right angles: the
+// other is its rival, and find-tooltip reports the rival's tip.
+TEST(ToolFrameAccuracy, RivalSymmetryPlanesAreTheOtherMirrorsOfTheHead) {
+  for (int g = 0; g < 4; ++g) {
+    const auto hoe = make_held_tool(ToolFamily::hoe, 60u + g);
+    EXPECT_TRUE(estimate_tool_frame(hoe.observed).rival_planes.empty()) << "hoe grasp " << g;
+    const auto plate = make_held_tool(ToolFamily::flat_top, 60u + g);
+    const ToolFrame frame = estimate_tool_frame(plate.observed);
+    ASSERT_FALSE(frame.rival_planes.empty()) << "flat top grasp " << g;
+    for (const auto& rival : frame.rival_planes) {
+      EXPECT_LT(std::abs(rival.normal.dot(frame.symmetry_axis())), std::cos(M_PI / 6));
+      EXPECT_LE(rival.score, frame.symmetry_score + ToolFrameConfig{}.symmetry_doubt_margin);
+    }
+    const Tooltip tip = find_tooltip(plate.observed, frame);
+    EXPECT_TRUE(std::any_of(tip.alternatives.begin(), tip.alternatives.end(),
+                            [](const TooltipAlternative& a) {
+                              return a.source == "rival symmetry plane" || a.source == "tied symmetry plane";
+                            }))
+        << "flat top grasp " << g;
+  }
+}
+
+namespace {
+
+// A flat plate x <= 0 sampled every millimetre, its edge at x = 0, and beyond it a fringe `fringe` deep
+// whose density falls linearly to nothing (a fattened silhouette); `outermost` is its outermost point.
+Points plate_with_fringe(double fringe, Vec3& outermost) {
+  Rng rng(5);
+  Points plate;
+  for (double y = -0.03; y <= 0.03; y += 0.001)
+    for (double x = -0.05; x <= fringe + 1e-9; x += 0.001)
+      if (x <= 1e-9 || rng.uniform() > x / fringe) plate.push_back(Vec3(x, y, 0.0));
+  outermost = plate.front();
+  for (const auto& p : plate)
+    if (p.x() > outermost.x()) outermost = p;
+  return plate;
+}
+
+}  // namespace
+
+// The tip is moved off a fringe towards the surface's edge, and not moved at a sharp edge or off a thin
+// part's side.
+TEST(TooltipEdge, FringeRetreatsTowardsTheEdgeSharpEdgesAndThinPartsStay) {
+  const TooltipConfig config;
+  Vec3 outermost;
+  const Points fringed = plate_with_fringe(0.008, outermost);
+  const double back = edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), config);
+  // The point ends within 4 mm of the true edge (half density lies inside the fringe's ramp), from
+  // about 8 mm out.
+  EXPECT_GT(outermost.x(), 0.006);
+  EXPECT_LT(std::abs(outermost.x() - back), 0.004) << "outermost at " << outermost.x() << ", back " << back;
+
+  const Points sharp = plate_with_fringe(0.0, outermost);
+  EXPECT_LE(edge_retreat(KdTree(sharp), outermost, Vec3::UnitX(), config), 0.001);
+
+  // A thin rod (radius 1.5 mm) seen across: from its front side, 1 cm back lies nothing denser.
+  Points rod;
+  for (double y = -0.05; y <= 0.05; y += 0.0005)
+    for (int k = 0; k < 8; ++k)
+      rod.push_back(Vec3(0.0015 * std::cos(k * M_PI / 4), y, 0.0015 * std::sin(k * M_PI / 4)));
+  EXPECT_LE(edge_retreat(KdTree(rod), Vec3(0.0015, 0, 0), Vec3::UnitX(), config), 0.001);
+
+  TooltipConfig off = config;
+  off.fringe_depth = 0.0;
+  plate_with_fringe(0.008, outermost);
+  EXPECT_EQ(edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), off), 0.0);
+}
+
+// A scoop's tip is its far end: the point farthest from the hand, which is a rim's corner (off the
+// handle's line), projected onto the symmetry plane, so at the rim's height. A fringe 8 mm deep beyond the
+// middle of the far edge reaches farther from the hand than the corners do, but along the handle, within
+// the noise of the tie; across the handle the corners stand 5 cm out.
+TEST(TooltipEdge, ScoopTipIsTheFarEdgesRimCornerNotTheFringeInItsMiddle) {
+  const double depth = 0.02, half_width = 0.045, far_end = -0.25;
+  Rng rng(9);
+  Points scoop;
+  for (double y = -0.15; y >= far_end; y -= 0.001)
+    for (double z = -half_width; z <= half_width + 1e-9; z += 0.001)
+      scoop.push_back(Vec3(depth * (z / half_width) * (z / half_width), y + rng.uniform(-0.0015, 0.0015), z));
+  for (double y = far_end; y >= far_end - 0.008; y -= 0.001)
+    for (double z = -0.02; z <= 0.02; z += 0.001)
+      if (rng.uniform() > (far_end - y) / 0.008) scoop.push_back(Vec3(0.0, y, z));
+  ToolFrame frame;
+  frame.origin = Vec3(0.0, -0.15, 0.0);
+  frame.head_kind = HeadKind::scoop;
+  const Tooltip tip = find_tooltip(scoop, frame);
+  EXPECT_NEAR(tip.position.x(), depth, 0.005) << "tip at " << tip.position.transpose();
+  EXPECT_NEAR(tip.position.y(), far_end, 0.005) << "tip at " << tip.position.transpose();
+  EXPECT_EQ(tip.position.z(), 0.0);
+}
+
+// A blade is told from the head seen along the handle, before any plane is chosen: the shovel's scoop is
+// one (a plate centred on the handle's axis, reaching along it), and its plane is the one across it; a
+// hook or an L (reaching out on one side), a T's bar and a rake's comb (short along the handle) and a
+// hoe's blade (a head's length in front) are not.
+TEST(ToolFrameAccuracy, BladesAreCentredPlatesAlongTheHandle) {
+  constexpr int kGrasps = 12;
+  int blades = 0;
+  for (int g = 0; g < kGrasps; ++g) {
+    const auto shovel = make_held_tool(ToolFamily::shovel, 110u + g);
+    const ToolFrame frame = estimate_tool_frame(shovel.observed);
+    blades +=
+        frame.tip_at_far_end() &&
+        std::abs(frame.symmetry_axis().dot(shovel.grasp.topLeftCorner<3, 3>().col(2))) >= std::cos(10 * M_PI / 180);
+    for (ToolFamily family :
+         {ToolFamily::hook, ToolFamily::l_stick, ToolFamily::t_bar, ToolFamily::rake, ToolFamily::hoe}) {
+      const auto other = make_held_tool(family, 110u + g);
+      EXPECT_FALSE(estimate_tool_frame(other.observed).head_is_blade) << to_string(family) << " grasp " << g;
+    }
+  }
+  // A grasp may hide a wing behind the hand's cut.
+  EXPECT_GE(blades, kGrasps - 2) << blades << " of " << kGrasps << " shovels a blade with the plane across it";
+}
+
+// Smear behind a head (a sparse sheet along the cameras' rays, 6 % of its points) can reach as far back as
+// the head reaches forward: the reaches no longer tell the side. The head's points on average still lie
+// in front, so X points there, and the side is reported doubtful.
+TEST(ToolFrameAccuracy, SmearBehindTheHeadDoesNotReverseTheEffector) {
+  int right = 0;
+  constexpr int kGrasps = 8;
+  for (int g = 0; g < kGrasps; ++g) {
+    auto hoe = make_held_tool(ToolFamily::hoe, 90u + g);
+    const Eigen::Matrix3d rotation = hoe.grasp.topLeftCorner<3, 3>();
+    const Vec3 translation = hoe.grasp.topRightCorner<3, 1>();
+    Rng rng(static_cast<std::uint32_t>(g));
+    const double far_y = -hoe.shape.handle_length - hoe.shape.head_height;
+    const std::size_t smear = hoe.observed.size() / 16;
+    for (std::size_t k = 0; k < smear; ++k) {
+      const Vec3 canonical(-rng.uniform(0.02, hoe.shape.head_length + 0.01),
+                           rng.uniform(far_y, -hoe.shape.handle_length), rng.uniform(-0.005, 0.005));
+      hoe.observed.push_back(rotation * canonical + translation);
+    }
+    const ToolFrame frame = estimate_tool_frame(hoe.observed);
+    EXPECT_FALSE(frame.salient_effector) << "grasp " << g << ": the smear should make the reaches alike";
+    right += frame.effector_axis().dot(rotation.col(0)) > 0;
+  }
+  EXPECT_GE(right, kGrasps - 1) << right << " of " << kGrasps;
+}
+
+// A hoe's blade reaches forward only: its effector side is clear. A T-bar's crossbar reaches alike both
+// ways: nothing decides its side, and find-tooltip reports the tip at the bar's other end.
+TEST(ToolFrameAccuracy, UndecidedEffectorSideGivesTheOtherSidesTip) {
+  for (int g = 0; g < 4; ++g) {
+    const auto hoe = make_held_tool(ToolFamily::hoe, 70u + g);
+    EXPECT_TRUE(estimate_tool_frame(hoe.observed).effector_side_clear) << "hoe grasp " << g;
+    const auto bar = make_held_tool(ToolFamily::t_bar, 70u + g);
+    const ToolFrame frame = estimate_tool_frame(bar.observed);
+    ASSERT_FALSE(frame.effector_side_clear) << "t-bar grasp " << g;
+    const Tooltip tip = find_tooltip(bar.observed, frame);
+    const auto other = std::find_if(tip.alternatives.begin(), tip.alternatives.end(),
+                                    [](const TooltipAlternative& a) { return a.source == "other effector side"; });
+    ASSERT_NE(other, tip.alternatives.end()) << "t-bar grasp " << g;
+    // The bar's two ends lie its length apart, on either side of the handle.
+    EXPECT_GT((other->position - tip.position).norm(), 0.5 * bar.shape.head_length) << "t-bar grasp " << g;
+    EXPECT_FALSE(tip.confidence.confident);
+  }
+}
