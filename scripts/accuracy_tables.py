@@ -1,0 +1,212 @@
+#!/usr/bin/env python3
+"""Writes docs/accuracy.md (to stdout) from the results scripts/measure.sh collected in WORK_DIR.
+
+Usage: accuracy_tables.py WORK_DIR MODELS_DIR MODELS_NAMED
+"""
+import json
+import os
+import statistics
+import sys
+
+work, models_dir, models_named = sys.argv[1], sys.argv[2], sys.argv[3]
+
+
+def load(name):
+    with open(os.path.join(work, name + ".json")) as f:
+        return json.load(f)
+
+
+def command(name):
+    """The arguments as a user would type them: the models' folder and the kinds' file by name."""
+    with open(os.path.join(work, name + ".command")) as f:
+        return f.read().strip().replace(os.path.join(work, "kinds.json"), "KINDS.json").replace(models_dir, "MODELS")
+
+
+def pct(rate):
+    return f"{100 * rate:.1f} %"
+
+
+def interval(share):
+    low, high = share["rate_interval_95"]
+    return f"{100 * low:.1f}-{100 * high:.1f}"
+
+
+def share(successes, trials):
+    return f"{successes}/{trials}"
+
+
+def mm(metres):
+    return "-" if metres is None else f"{1000 * metres:.1f} mm"
+
+
+def sessions_table(name):
+    result = load(name)
+    by_family = {}
+    for s in result["sessions"]:
+        by_family.setdefault(s["family"], []).append(s)
+    lines = [
+        "| kind | sessions | tooltip within 10 mm (95 % interval) | median error | with the true frame "
+        "| confident | confident: tooltip within 15 mm (95 % interval) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for row in result["summary"]:
+        cases = result["sessions"] if row["family"] == "all" else by_family[row["family"]]
+        errors = [s["tooltip_error_m"] for s in cases if s["tooltip_error_m"] is not None]
+        confident = row["confident_tooltip_within_15mm"]
+        confident_text = f"{pct(confident['rate'])} ({interval(confident)})" if confident["trials"] else "-"
+        kind = f"**{row['family']}**" if row["family"] == "all" else row["family"]
+        lines.append(
+            f"| {kind} | {row['sessions']} | {share(row['tooltip_within_tolerance'], row['sessions'])} "
+            f"{pct(row['rate'])} ({interval(row)}) | {mm(statistics.median(errors)) if errors else '-'} "
+            f"| {share(row['tooltip_within_tolerance_true_frame'], row['sessions'])} "
+            f"| {row['confident']} | {confident_text} |")
+    return "\n".join(lines)
+
+
+def worst_sessions(name, count=3):
+    """The worst sessions of each kind: what still fails."""
+    result = load(name)
+    by_family = {}
+    for s in result["sessions"]:
+        by_family.setdefault(s["family"], []).append(s)
+    lines = []
+    for family, cases in by_family.items():
+        misses = [s for s in cases if s["tooltip_error_m"] is None or s["tooltip_error_m"] > 0.010]
+        misses.sort(key=lambda s: -(s["tooltip_error_m"] if s["tooltip_error_m"] is not None else 1e9))
+        if not misses:
+            continue
+        described = []
+        for s in misses[:count]:
+            what = os.path.basename(s["model"]) + " " if s["model"] else ""
+            if s["failure"]:
+                described.append(f"{what}seed {s['seed']}: failed ({s['failure']})")
+                continue
+            frame = []
+            if s["handle_axis_error_deg"] is not None and s["handle_axis_error_deg"] > 3:
+                frame.append(f"handle {s['handle_axis_error_deg']:.0f} deg off")
+            if s["symmetry_plane_error_deg"] is not None and s["symmetry_plane_error_deg"] > 10:
+                frame.append(f"plane {s['symmetry_plane_error_deg']:.0f} deg off")
+            if s["effector_sign_right"] is False:
+                frame.append("effector reversed")
+            described.append(
+                f"{what}seed {s['seed']}: {mm(s['tooltip_error_m'])} ({', '.join(frame) or 'frame right'}; "
+                f"{mm(s['tooltip_error_true_frame_m'])} with the true frame; "
+                f"{'confident' if s['confident'] else 'doubtful'})")
+        lines.append(f"- {family}, {len(misses)} of {len(cases)} beyond 10 mm; the worst: " + "; ".join(described))
+    return "\n".join(lines) if lines else "- none beyond 10 mm"
+
+
+def models_table():
+    result = load("models")
+    lines = [
+        "| kind | cases | tooltip within 10 mm (95 % interval) | handle axis within 3 deg (95 % interval) "
+        "| median error | right-handed | effector sign right (salient) | confident: tooltip within 15 mm |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for row in result["kinds"] + [result["all"]]:
+        tip, handle, confident = (row["tooltip_within_10mm"], row["handle_axis_within_3deg"],
+                                  row["confident_tooltip_within_15mm"])
+        kind = f"**{row['kind']}**" if row["kind"] == "all" else row["kind"]
+        confident_text = (f"{share(confident['successes'], confident['trials'])} {pct(confident['rate'])} "
+                          f"({interval(confident)})" if confident["trials"] else "none confident")
+        lines.append(
+            f"| {kind} | {row['cases']} | {share(tip['successes'], tip['trials'])} {pct(tip['rate'])} "
+            f"({interval(tip)}) | {pct(handle['rate'])} ({interval(handle)}) | {mm(row['median_tooltip_m'])} "
+            f"| {row['cases'] - row['left_handed']}/{row['cases']} "
+            f"| {share(row['effector_sign_right'], row['salient_cases']) if row['salient_cases'] else '-'} "
+            f"| {confident_text} |")
+    worst = sorted(result["models"], key=lambda m: m["tooltip_within_10mm"]["rate"])[:8]
+    below = [m for m in worst if m["tooltip_within_10mm"]["rate"] < 0.9]
+    tail = ", ".join(f"{os.path.basename(m['model'])} {pct(m['tooltip_within_10mm']['rate'])} "
+                     f"(median {mm(m['median_tooltip_m'])})" for m in below)
+    return "\n".join(lines), tail or "none"
+
+
+def bench_table(name, what):
+    path = os.path.join(work, name + ".json")
+    if not os.path.exists(path):
+        return f"{what}: not measured (the benchmarks were not built: TOOLINC_BUILD_BENCHMARKS)."
+    with open(path) as f:
+        runs = json.load(f)["benchmarks"]
+    lines = [f"| {what} | CPU time per call |", "|---|---|"]
+    for run in runs:
+        label = f"{run['name']}: {run['label']}" if run.get("label") else run["name"]
+        lines.append(f"| {label} | {run['cpu_time']:.1f} {run['time_unit']} |")
+    return "\n".join(lines)
+
+
+models, worst_models = models_table()
+print(f"""# Accuracy and speed, measured
+
+Generated by `scripts/measure.sh` (every figure below comes from its run; rerun it after a change to the
+method, and commit the result). Rates are tooltips within 10 mm of the ground truth, with 95 % Wilson
+intervals; "with the true frame" applies the tooltip rule with the true tool frame, so the gap between the
+two columns is the frame's share of the misses; "confident" counts the results the method calls
+confident, and the last column how many of those are within 15 mm. The ground truth is the paper's
+weighted rule, except a flat or scooped blade continuing the handle (a shovel), whose tip is the blade's
+far end. How the method works and why it fails where it does: [method.md](method.md); the simulator:
+[simulation.md](simulation.md).
+
+(Part of [toolinc](../README.md).)
+
+## Generated families, robot-like stereo
+
+The default sessions: each family's tool held with a recorded grasp, seen from the five exploration poses
+through the simulated LIBELAS-like stereo (smear at depth edges, interpolated gaps), cropped, merged, and
+the frame and tooltip estimated on the merged cloud (`build/bin/evaluate-sessions {command('elas')}`).
+
+{sessions_table('elas')}
+
+What still fails:
+{worst_sessions('elas')}
+
+## Generated families, ideal stereo
+
+The same sessions with exact disparity (`build/bin/evaluate-sessions {command('ideal')}`): the method's
+own error, without the stereo's.
+
+{sessions_table('ideal')}
+
+With any grasp (the effector facing any way, `build/bin/evaluate-sessions {command('ideal_any')}`):
+
+{sessions_table('ideal_any')}
+
+What still fails there:
+{worst_sessions('ideal_any')}
+
+## Models under random grasps
+
+{models_named[0].upper() + models_named[1:]}, each held with random grasps (rotation about the handle +/-90 degrees, tilt +/-45, roll
++/-15, offsets +/-5 cm), the points within 6 cm of the hand removed, Gaussian noise of sigma 1.5 mm; the
+ground truth modulo the model's measured symmetry (`build/bin/evaluate-models MODELS {command('models')}`).
+
+{models}
+
+Models below 90 %: {worst_models}.
+
+## Sessions of the models, robot-like stereo
+
+The same models through the default sessions (`build/bin/evaluate-sessions {command('model_sessions')}`).
+
+{sessions_table('model_sessions')}
+
+What still fails:
+{worst_sessions('model_sessions')}
+
+## Speed
+
+The benchmarks (`build/bench/`, Google Benchmark) on one core (`taskset -c 0`), CPU time per call (wall
+time on a loaded machine is larger). `bench_tool_frame`: estimate-frame + find-tooltip on a held
+generated tool of about 10k points.
+
+{bench_table("bench_tool_frame", "estimate-frame + find-tooltip")}
+
+`bench_session_pipeline`: crop-cloud on one view, merge-views of five, and the whole offline pipeline of
+a five-view session (0 ideal, 1 SGBM, 2 LIBELAS-like stereo).
+
+{bench_table("bench_session_pipeline", "session pipeline")}
+
+`bench_align_pose`: align-pose of a generated model onto a partial view, per family.
+
+{bench_table("bench_align_pose", "align-pose")}
+""", end="")
