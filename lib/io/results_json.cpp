@@ -3,9 +3,11 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <Eigen/LU>
+#include <variant>
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
+#include "toolinc/frame/parameters.hpp"
 
 namespace toolinc {
 
@@ -19,6 +21,14 @@ Json planes_json(const std::vector<SymmetryCandidate>& planes) {
   Json json = Json::array();
   for (const auto& c : planes)
     json.push_back({{"angle_deg", c.angle_deg}, {"normal", to_json(c.normal)}, {"score", c.score}});
+  return json;
+}
+
+// Every parameter's value by its option name (its own type: an integer stays one).
+template <class Config>
+Json settings_json(const Config& config, const std::vector<Parameter<Config>>& table) {
+  Json json = Json::object();
+  for (const auto& p : table) std::visit([&](auto member) { json[p.name] = config.*member; }, p.field);
   return json;
 }
 
@@ -72,13 +82,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"head_extent_m", frame.head_extent},
         {"stick", frame.stick},
         {"head", {{"length_m", frame.head_length}, {"width_m", frame.head_width}}},
-        {"hand_to_handle_m", frame.hand_to_handle},
-        {"config",
-         {{"hand_radius", config.hand_radius},
-          {"voxel_size", config.voxel_size},
-          {"symmetry_tolerance", config.symmetry_tolerance},
-          {"handle_fraction", config.handle_fraction},
-          {"handle_hand_skip", config.handle_hand_skip}}}}},
+        {"hand_to_handle_m", frame.hand_to_handle}}},
+      {"settings", settings_json(config, tool_frame_parameters())},
   };
 }
 
@@ -225,6 +230,8 @@ Eigen::Matrix4d read_tool_pose(const std::string& path) {
 
 Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipConfig& config) {
   const Eigen::Vector4d aa = axis_angle(frame.axes);
+  Json settings = settings_json(config, tooltip_parameters());
+  settings["rule"] = to_string(config.rule);
   Json alternatives = Json::array();
   for (const auto& a : tooltip.alternatives)
     alternatives.push_back({{"position", to_json(a.position)},
@@ -261,6 +268,7 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
                  "farthest from the hand") +
            "; on the symmetry plane the frame chose: " + frame.symmetry_plane_rule},
       {"alternatives", alternatives},
+      {"settings", settings},
       {"diagnostics",
        {{"rule", to_string(config.rule)},
         {"tied", tooltip.tied},

@@ -70,11 +70,11 @@ TEST(FrameCli, ConfigFileAndCommandLinePrecedence) {
   auto run =
       run_tool("estimate-frame", (dir / "rake.ply").string() + " -c " + (dir / "config.json").string() + " -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_EQ(Json::parse(run.out)["diagnostics"]["config"]["hand_radius"], 0.07);
+  EXPECT_EQ(Json::parse(run.out)["settings"]["hand-radius"], 0.07);
   run = run_tool("estimate-frame",
                  (dir / "rake.ply").string() + " -c " + (dir / "config.json").string() + " --hand-radius 0.065 -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_EQ(Json::parse(run.out)["diagnostics"]["config"]["hand_radius"], 0.065);
+  EXPECT_EQ(Json::parse(run.out)["settings"]["hand-radius"], 0.065);
   write_text(dir / "typo.json", R"({"estimate-frame": {"hand-radius-typo": 0.07}})");
   run = run_tool("estimate-frame", (dir / "rake.ply").string() + " -c " + (dir / "typo.json").string() + " -o -");
   EXPECT_EQ(run.exit_code, 2);

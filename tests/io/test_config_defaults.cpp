@@ -2,8 +2,10 @@
 // `-c configs/icub.json` must give the same output as running it without (as FrameCli.ShippedConfigHoldsTheDefaults
 // checks for estimate-frame and find-tooltip).
 #include <gtest/gtest.h>
+#include <spdlog/fmt/fmt.h>
 
 #include <filesystem>
+#include <iterator>
 #include <string>
 
 #include "support/files.hpp"
@@ -11,6 +13,7 @@
 #include "support/run_tool.hpp"
 #include "toolinc/appearance/feature_db.hpp"
 #include "toolinc/core/random.hpp"
+#include "toolinc/frame/parameters.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -142,6 +145,47 @@ TEST(ConfigDefaults, CropCloudShippedConfigHoldsTheDefaults) {
       run_tool("crop-cloud", "--box-min 0 -0.40 -0.20 --box-max 0.40 0 0.20 " + args + (dir / "boxed.ply").string());
   ASSERT_EQ(boxed.exit_code, 0) << boxed.err;
   EXPECT_EQ(read_cloud((dir / "boxed.ply").string()).points, a.points);
+}
+
+}  // namespace
+}  // namespace toolinc
+
+namespace toolinc {
+namespace {
+
+// The parameter tables are the one source of the frame's and the tooltip's parameters: the shipped
+// config's sections hold exactly their parameters, in their order, at their defaults, and the docs'
+// parameter table has a row for each, its default first.
+template <class Config>
+void expect_section_is_the_table(const Json& section, const std::vector<Parameter<Config>>& table,
+                                 std::size_t skipped) {
+  ASSERT_EQ(section.size(), table.size() + skipped);
+  auto key = section.begin();
+  std::advance(key, skipped);
+  for (const auto& p : table) {
+    EXPECT_EQ(key.key(), p.name);
+    EXPECT_DOUBLE_EQ(key.value().template get<double>(), value_of(p, Config{})) << p.name;
+    ++key;
+  }
+}
+
+template <class Config>
+void expect_documented(const std::string& docs, const std::vector<Parameter<Config>>& table) {
+  for (const auto& p : table) {
+    const std::string value = fmt::format("{:g}", value_of(p, Config{}));
+    const std::string row = fmt::format("| `{}` | {}{} |", p.name, value, *p.unit ? " " + std::string(p.unit) : "");
+    EXPECT_NE(docs.find(row), std::string::npos) << "docs/method.md has no row starting " << row;
+  }
+}
+
+TEST(ConfigDefaults, FrameAndTooltipParametersFollowTheirTables) {
+  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  expect_section_is_the_table(config.at("estimate-frame"), tool_frame_parameters(), 0);
+  ASSERT_EQ(config.at("find-tooltip").begin().key(), "rule");  // the rule, an enumeration, first
+  expect_section_is_the_table(config.at("find-tooltip"), tooltip_parameters(), 1);
+  const std::string docs = slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md");
+  expect_documented(docs, tool_frame_parameters());
+  expect_documented(docs, tooltip_parameters());
 }
 
 }  // namespace

@@ -31,7 +31,7 @@ def test_frame_equals_estimate_frame_with_options(tool):
                                         config={"voxel-size": 0.004, "hand-radius": 0.05})  # the keyword wins
     assert frame["matrix"].shape == (4, 4)
     assert np.max(np.abs(frame["matrix"] - np.array(expected["matrix"]))) <= 1e-9
-    assert frame["diagnostics"]["config"]["hand_radius"] == 0.07
+    assert frame["settings"]["hand-radius"] == 0.07
 
 
 def test_config_file_as_with_c(tool, tmp_path):

@@ -87,6 +87,10 @@ bool inside_tool(const ToolShape& s, const Vec3& p) {
     case ToolFamily::flat_top:
       return in_cylinder(p, hand, corner, r) ||
              in_box(p, Vec3(-s.head_length / 2, -L - 0.006, -w / 2), Vec3(s.head_length / 2, -L, w / 2));
+    case ToolFamily::blade:  // the real shapes' families have no closed form here
+    case ToolFamily::square_plate:
+    case ToolFamily::cross:
+      ADD_FAILURE() << "no closed form for " << to_string(s.family);
   }
   return false;
 }
@@ -112,6 +116,10 @@ Box3 expected_bounds(const ToolShape& s) {
       return {Vec3(-len / 2, -L - r, -r), Vec3(len / 2, 0, r)};
     case ToolFamily::flat_top:
       return {Vec3(-s.head_length / 2, -L - 0.006, -w / 2), Vec3(s.head_length / 2, 0, w / 2)};
+    case ToolFamily::blade:
+    case ToolFamily::square_plate:
+    case ToolFamily::cross:
+      ADD_FAILURE() << "no closed form for " << to_string(s.family);
   }
   return {};
 }

@@ -1,0 +1,112 @@
+#include "toolinc/frame/parameters.hpp"
+
+namespace toolinc {
+
+namespace {
+constexpr bool kOpen = true, kClosed = false;
+using F = ToolFrameConfig;
+using T = TooltipConfig;
+}  // namespace
+
+const std::vector<Parameter<ToolFrameConfig>>& tool_frame_parameters() {
+  static const std::vector<Parameter<ToolFrameConfig>> table{
+      {"hand-radius", "m", "Points this close to the hand origin are the hand's", &F::hand_radius, 0, kClosed},
+      {"voxel-size", "m", "Resampling voxel for density-independent statistics", &F::voxel_size, 0, kOpen},
+      {"isolated-radius", "m", "Resampled points with fewer than isolated-min-neighbors others within this are stray",
+       &F::isolated_radius, 0, kOpen},
+      {"isolated-min-neighbors", "", "Fewer neighbours within isolated-radius makes a resampled point stray",
+       &F::isolated_min_neighbors, 0, kClosed},
+      {"min-points", "", "Fewer points outside the hand is degenerate", &F::min_points, 0, kOpen},
+      {"min-length", "m", "Shortest acceptable extent along the major axis", &F::min_length, 0, kClosed},
+      {"min-thickness", "m", "RMS spread below which points are collinear/planar", &F::min_thickness, 0, kClosed},
+      {"handle-fraction", "", "Share of the length, from the hand end, fitted as handle", &F::handle_fraction, 0.05,
+       kClosed, 1.0},
+      {"handle-hand-skip", "",
+       "Share of the length, at the hand end, left out of the handle fit (the hand may survive the cut)",
+       &F::handle_hand_skip, 0, kClosed, 0.9},
+      {"handle-radial-factor", "", "Handle points lie within this times the fitted cylinder's median radius",
+       &F::handle_radial_factor, 1, kClosed, 100},
+      {"handle-iterations", "", "Iterations of the handle's robust cylinder fit", &F::handle_iterations, 1, kClosed,
+       1000},
+      {"handle-residual-scale", "m", "Huber scale of the handle's cylinder fit (about the stereo noise)",
+       &F::handle_residual_scale, 0, kOpen},
+      {"handle-solid-fraction", "",
+       "More of the handle's points than this inside half its radius is a filled model: its principal axis is "
+       "used instead of the cylinder's",
+       &F::handle_solid_fraction, 0, kClosed, 1},
+      {"handle-max-radius", "m", "A fitted handle cylinder wider than this is not trusted", &F::handle_max_radius, 0,
+       kOpen},
+      {"handle-section-length", "m",
+       "The handle's radius is refitted per section of this length, so a grip and a thinner shaft do not tilt it",
+       &F::handle_section_length, 0, kOpen},
+      {"stick-width", "m",
+       "A tool whose effector side stays this close to its axis has no head: a stick, its tip its far end",
+       &F::stick_width, 0, kClosed},
+      {"symmetry-step-deg", "deg", "Coarse sweep step of the symmetry plane", &F::symmetry_step_deg, 0.5, kClosed, 45},
+      {"symmetry-tolerance", "m", "Mirror distance counted as fully asymmetric", &F::symmetry_tolerance, 0, kOpen},
+      {"symmetry-samples", "", "Points mirrored per symmetry score", &F::symmetry_samples, 0, kOpen},
+      {"symmetry-tie-margin", "", "Planes scoring within this of the best are equally symmetric",
+       &F::symmetry_tie_margin, 0, kClosed, 1},
+      {"symmetry-doubt-margin", "",
+       "A plane 30 degrees or more from the chosen one scoring within this of it is a rival, whose tip "
+       "find-tooltip reports",
+       &F::symmetry_doubt_margin, 0, kClosed, 1},
+      {"head-radius-factor", "",
+       "Effector-side points this many handle radii from the handle axis are the head "
+       "(mirrored)",
+       &F::head_radius_factor, 0, kClosed, 100},
+      {"min-head-points", "", "Fewer head points than this is no head: all are mirrored", &F::min_head_points, 0,
+       kClosed},
+      {"head-line-elongation", "", "Spread ratio along/across a line, seen along the handle, that makes the head a bar",
+       &F::head_line_elongation, 1, kClosed, 1e6},
+      {"symmetry-normal-neighbors", "", "Neighbours of the normals a mirror image's distance is measured along",
+       &F::symmetry_normal_neighbors, 3, kClosed, 100},
+      {"symmetry-match-weight", "", "Weight of a matched mirror image's distance against a contradicted image (1)",
+       &F::symmetry_match_weight, 0, kClosed, 1},
+      {"blade-flatness", "", "A blade, seen along the handle, is deep (RMS) at most this share of its width",
+       &F::blade_flatness, 0, kClosed, 1},
+      {"blade-centring", "",
+       "A blade's extent, seen along the handle, is centred on its axis within this share of "
+       "its width",
+       &F::blade_centring, 0, kClosed, 1},
+      {"blade-min-aspect", "",
+       "A blade or scoop reaching along the handle this share of its width continues it: its tip is its far end",
+       &F::blade_min_aspect, 0, kClosed, 100},
+      {"front-band", "m", "Depth of the effector's front telling a face from a corner", &F::front_band, 0, kOpen},
+      {"head-curl-min", "m", "A blade or scoop whose edges rise this much above its middle faces its concave side",
+       &F::head_curl_min, 0, kClosed},
+      {"salience-quantile", "", "Quantile of the points' offsets that is the effector's reach on each side",
+       &F::salience_quantile, 0.5, kClosed, 1},
+      {"salience-ratio", "", "Reach ratio that makes an effector side salient", &F::salience_ratio, 1, kClosed, 100},
+      {"salience-min", "m", "Reach difference that makes an effector side salient", &F::salience_min, 0, kClosed},
+      {"grasp-reach", "m", "The handle's axis passes this close to the hand; a farther one makes the frame doubtful",
+       &F::grasp_reach, 0, kOpen},
+      {"grasp-max-radius", "m",
+       "The hand closes on handles up to this radius; a thicker fitted handle makes the frame doubtful",
+       &F::grasp_max_radius, 0, kOpen},
+  };
+  return table;
+}
+
+const std::vector<Parameter<TooltipConfig>>& tooltip_parameters() {
+  static const std::vector<Parameter<TooltipConfig>> table{
+      {"tie-tolerance", "m", "Points scoring this close to the best tie", &T::tie_tolerance, 0, kClosed},
+      {"effector-weight", "", "weighted rule: weight of the distance in front (0..1)", &T::effector_weight, 0, kClosed,
+       1},
+      {"smoothing-neighbors", "",
+       "weighted rule: tied points compared by their this many nearest points' mean distance in front",
+       &T::smoothing_neighbors, 1, kClosed, 1000},
+      {"ambiguity-distance", "m", "An alternative tip this far from the chosen one makes the tooltip ambiguous",
+       &T::ambiguity_distance, 0, kOpen},
+      {"density-radius", "m", "Density check radius", &T::density_radius, 0, kOpen},
+      {"min-neighbors", "", "A tooltip needs more than this many neighbours", &T::min_neighbors, 0, kClosed},
+      {"tip-edge-radius", "m", "The surface's density at the tip is counted within this, to find its edge",
+       &T::tip_edge_radius, 1e-4, kClosed, 1},
+      {"fringe-depth", "m",
+       "How deep a fringe of fattened or misregistered surface may lie beyond the true edge; 0: none", &T::fringe_depth,
+       0, kClosed, 1},
+  };
+  return table;
+}
+
+}  // namespace toolinc
