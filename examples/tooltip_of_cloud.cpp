@@ -3,9 +3,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "toolinc/frame/tool_frame.hpp"
-#include "toolinc/frame/tooltip.hpp"
-#include "toolinc/io/cloud_io.hpp"
+#include "toolinc/toolinc.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {
@@ -17,6 +15,7 @@ int main(int argc, char** argv) {
     const toolinc::ToolFrame frame = toolinc::estimate_tool_frame(cloud.points, {}, cloud.viewpoints);
     const toolinc::Tooltip tip = toolinc::find_tooltip(cloud.points, frame);
     std::printf("tooltip %.17g %.17g %.17g\n", tip.position.x(), tip.position.y(), tip.position.z());
+    std::printf("confident %s\n", tip.confidence.confident ? "yes" : "no");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tooltip_of_cloud: %s\n", e.what());
     return 2;

@@ -26,8 +26,10 @@ expected = json.load(open(sys.argv[1]))['position']
 line = re.search(r'^tooltip (\\S+) (\\S+) (\\S+)$', open(sys.argv[2]).read(), re.M)
 got = [float(v) for v in line.groups()]
 diff = max(abs(g - e) for g, e in zip(got, expected))
+confident = re.search(r'^confident (yes|no)$', open(sys.argv[2]).read(), re.M)
+same_confidence = confident is None or (confident.group(1) == 'yes') == json.load(open(sys.argv[1]))['confidence']['confident']
 print(diff)
-sys.exit(0 if diff <= 1e-9 else 1)" ${WORK_DIR}/expected.json ${WORK_DIR}/got.txt)
+sys.exit(0 if diff <= 1e-9 and same_confidence else 1)" ${WORK_DIR}/expected.json ${WORK_DIR}/got.txt)
   string(STRIP "${run_output}" difference)
   message(STATUS "${what}: tooltip equals find-tooltip's (largest difference ${difference} m)")
 endfunction()
