@@ -10,7 +10,7 @@
 #include "toolinc/app/options.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 
 using namespace toolinc;
 

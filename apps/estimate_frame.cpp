@@ -3,7 +3,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 
 int main(int argc, char** argv) {
   toolinc::Command command("estimate-frame", "Estimate a held tool's intrinsic frame from its cloud in the hand frame");

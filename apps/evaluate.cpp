@@ -4,7 +4,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/core/rigid.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 #include "toolinc/synth/ground_truth_file.hpp"
 
 int main(int argc, char** argv) {

@@ -8,7 +8,7 @@
 #include "toolinc/app/progress.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 
 int main(int argc, char** argv) {
   toolinc::Command command("merge-views", "Merge hand-frame views of a tool into one model");

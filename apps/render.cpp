@@ -13,8 +13,8 @@
 #include "toolinc/app/options.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/io/atomic_file.hpp"
-#include "toolinc/io/results_json.hpp"
 #include "toolinc/render/contact_sheet.hpp"
+#include "toolinc/results/results_json.hpp"
 
 int main(int argc, char** argv) {
   toolinc::Command command("render",

@@ -37,14 +37,17 @@ endfunction()
 # Eigen only.
 toolinc_component(core FOLDERS core ann PUBLIC Eigen3::Eigen)
 toolinc_component(geometry FOLDERS cloud frame registration PUBLIC toolinc::core PRIVATE spdlog::spdlog)
-# Clouds (PLY, PCD) and the JSON results; results_json speaks the geometry's types.
-toolinc_component(io FOLDERS io PUBLIC toolinc::geometry nlohmann_json::nlohmann_json PRIVATE spdlog::spdlog liblzf::liblzf)
+# Clouds (PLY, PCD) and JSON files: reading a cloud needs no geometry.
+toolinc_component(io FOLDERS io PUBLIC toolinc::core nlohmann_json::nlohmann_json PRIVATE spdlog::spdlog liblzf::liblzf)
+# The result files the executables exchange (tool_frame, tooltip, tool_pose, merge_report), which speak
+# the geometry's types.
+toolinc_component(results FOLDERS results PUBLIC toolinc::io toolinc::geometry)
 # OpenCV from here on.
-toolinc_component(session FOLDERS session PUBLIC toolinc::io opencv_core PRIVATE opencv_imgproc opencv_imgcodecs spdlog::spdlog)
+toolinc_component(session FOLDERS session PUBLIC toolinc::io toolinc::geometry opencv_core PRIVATE opencv_imgproc opencv_imgcodecs spdlog::spdlog)
 toolinc_component(appearance FOLDERS appearance PUBLIC toolinc::session opencv_dnn
                   PRIVATE opencv_imgproc opencv_imgcodecs spdlog::spdlog)
 toolinc_component(render FOLDERS render PUBLIC toolinc::session PRIVATE opencv_imgproc opencv_imgcodecs spdlog::spdlog)
-toolinc_component(report FOLDERS report PUBLIC toolinc::io PRIVATE spdlog::spdlog)
+toolinc_component(report FOLDERS report PUBLIC toolinc::results PRIVATE spdlog::spdlog)
 # The recorder but its simulated robot, which is the simulator's (sim_backend drives lib/synth, and
 # lib/synth uses the recorder's exploration poses).
 toolinc_component(record FOLDERS record EXCLUDE record/sim_backend.cpp PUBLIC toolinc::session PRIVATE spdlog::spdlog)

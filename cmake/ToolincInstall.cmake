@@ -1,6 +1,6 @@
 # Install and export: headers, the components' libraries, the executables, configs/, the formats' docs
 # and schemas, and a toolincConfig.cmake (with version file) usable from the install prefix and, through
-# export(), from the build tree:  find_package(toolinc 0.1 REQUIRED COMPONENTS geometry io)
+# export(), from the build tree:  find_package(toolinc 0.1 REQUIRED COMPONENTS results)
 include(CMakePackageConfigHelpers)
 
 set(TOOLINC_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/toolinc)

@@ -7,7 +7,7 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/io/read_file.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 
 namespace toolinc {
 namespace fs = std::filesystem;

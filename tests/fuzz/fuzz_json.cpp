@@ -2,7 +2,7 @@
 // CMake): tool_frame, tooltip, tool_pose, ground_truth, classifier.
 #include "fuzz_input.hpp"
 #include "toolinc/appearance/classifier_file.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 #include "toolinc/synth/ground_truth_file.hpp"
 
 namespace {

@@ -15,8 +15,8 @@
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
-#include "toolinc/io/results_json.hpp"
 #include "toolinc/registration/align_pose.hpp"
+#include "toolinc/results/results_json.hpp"
 #include "toolinc/synth/partial_view.hpp"
 
 namespace toolinc {

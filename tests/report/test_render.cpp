@@ -15,9 +15,9 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
-#include "toolinc/io/results_json.hpp"
 #include "toolinc/render/contact_sheet.hpp"
 #include "toolinc/render/render.hpp"
+#include "toolinc/results/results_json.hpp"
 #include "toolinc/session/blob.hpp"
 #include "toolinc/synth/tool_generator.hpp"
 

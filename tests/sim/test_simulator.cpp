@@ -11,7 +11,7 @@
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/cloud_io.hpp"
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/ground_truth_file.hpp"
 #include "toolinc/synth/session_simulator.hpp"

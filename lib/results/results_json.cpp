@@ -1,4 +1,4 @@
-#include "toolinc/io/results_json.hpp"
+#include "toolinc/results/results_json.hpp"
 
 #include <spdlog/fmt/fmt.h>
 
