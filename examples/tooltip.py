@@ -9,9 +9,10 @@ import numpy as np
 import toolinc
 
 cloud = toolinc.read_cloud(sys.argv[1])  # points (N, 3), colors, normals, frame, viewpoints
-frame = toolinc.estimate_tool_frame(cloud)  # options as estimate-frame's: hand_radius=0.06, ...
-tip = toolinc.find_tooltip(cloud, frame=frame)
-hand_from_tool = frame["matrix"]  # a 4x4 numpy array
+frame = toolinc.estimate_tool_frame(cloud)  # a toolinc.ToolFrame; options as estimate-frame's: hand_radius=0.06, ...
+tip = toolinc.find_tooltip(cloud, frame=frame)  # a toolinc.Tooltip; tip.to_dict() is find-tooltip's JSON
+hand_from_tool = frame.matrix  # a 4x4 numpy array
 assert np.isclose(np.linalg.det(hand_from_tool[:3, :3]), 1.0)
-print("effector axis", " ".join(f"{v:.3f}" for v in frame["effector_axis"]))
-print("tooltip", " ".join(repr(float(v)) for v in tip["position"]))
+print("effector axis", " ".join(f"{v:.3f}" for v in frame.effector_axis))
+print("tooltip", " ".join(repr(float(v)) for v in tip.position))
+print("confident", "yes" if tip.confidence.confident else "no")

@@ -119,6 +119,52 @@ py::object to_python(const Json& j) {
   return list;
 }
 
+// ---- results as typed objects ----
+
+// A result (tool_frame, tooltip, tool_pose, merge_report): its fields as attributes and as items, an
+// object field as a result too, and to_dict() the plain dict (what json.dumps takes). The subclasses
+// name the result's type.
+class Result {
+ public:
+  explicit Result(py::dict fields) : fields_(std::move(fields)) {}
+  py::object field(const std::string& name) const {
+    if (!fields_.contains(name)) throw py::key_error(name);
+    const py::object value = fields_[py::str(name)];
+    if (py::isinstance<py::dict>(value)) return py::cast(Result(value.cast<py::dict>()));
+    return value;
+  }
+  py::object attribute(const std::string& name) const {
+    try {
+      return field(name);
+    } catch (const py::key_error&) {
+      throw py::attribute_error(name);  // what getattr(result, name, default) expects
+    }
+  }
+  bool contains(const std::string& name) const { return fields_.contains(name); }
+  py::list keys() const { return py::list(fields_.attr("keys")()); }
+  py::dict to_dict() const { return fields_; }
+
+ private:
+  py::dict fields_;
+};
+struct ToolFrameResult : Result {
+  using Result::Result;
+};
+struct TooltipResult : Result {
+  using Result::Result;
+};
+struct ToolPoseResult : Result {
+  using Result::Result;
+};
+struct MergeReportResult : Result {
+  using Result::Result;
+};
+
+template <class Typed>
+py::object typed(const Json& json) {
+  return py::cast(Typed(to_python(json).cast<py::dict>()));
+}
+
 // ---- options: the executables' own definitions, fed from keyword arguments ----
 
 // Applies `config` and `kwargs` as the executable's long options (key "hand-radius" or hand_radius).
@@ -150,6 +196,7 @@ void parse_options(Command& command, const py::object& config, const py::kwargs&
 
 // A tool_frame dict (as estimate_tool_frame returns it; its type, version and matrix are read) or file.
 ToolFrame frame_from_python(const py::handle& frame) {
+  if (py::isinstance<Result>(frame)) return frame_from_python(frame.cast<const Result&>().to_dict());
   if (!py::isinstance<py::dict>(frame)) return read_tool_frame(py::str(frame).cast<std::string>());
   const auto dict = py::reinterpret_borrow<py::dict>(frame);
   Json json = Json::object();
@@ -179,7 +226,8 @@ py::object estimate_tool_frame_py(const py::handle& cloud, const py::object& con
   parse_options(command, config, kwargs);
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
-  return to_python(tool_frame_json(estimate_tool_frame(c.points, frame_config, c.viewpoints), frame_config));
+  return typed<ToolFrameResult>(
+      tool_frame_json(estimate_tool_frame(c.points, frame_config, c.viewpoints), frame_config));
 }
 
 py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, const py::object& config,
@@ -197,7 +245,7 @@ py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, con
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
   const ToolFrame used = frame.is_none() ? estimate_tool_frame(c.points, frame_config, c.viewpoints) : given;
-  return to_python(tooltip_json(find_tooltip(c.points, used, tooltip_config), used, tooltip_config));
+  return typed<TooltipResult>(tooltip_json(find_tooltip(c.points, used, tooltip_config), used, tooltip_config));
 }
 
 py::tuple merge_views_py(const py::list& views, const py::object& config, const py::kwargs& kwargs) {
@@ -212,7 +260,7 @@ py::tuple merge_views_py(const py::list& views, const py::object& config, const 
     names.push_back("view " + std::to_string(names.size()));
   }
   const MergeResult merged = merge_views(clouds, merge_config);
-  return py::make_tuple(cloud_to_python(merged.model), to_python(merge_report_json(names, merged, "")));
+  return py::make_tuple(cloud_to_python(merged.model), typed<MergeReportResult>(merge_report_json(names, merged, "")));
 }
 
 py::object align_pose_py(const py::handle& model, const py::handle& view, const py::object& config,
@@ -224,7 +272,7 @@ py::object align_pose_py(const py::handle& model, const py::handle& view, const 
   const PointCloud m = cloud_from_python(model, "model"), v = cloud_from_python(view, "view");
   const PoseModel pose_model = pose_model_of(m, v, align_config, "model", "view");
   const PoseResult result = align_pose(pose_model, v.points, align_config);
-  return to_python(tool_pose_json(result, align_config, "model", "view", 0.0, 0.0));
+  return typed<ToolPoseResult>(tool_pose_json(result, align_config, "model", "view", 0.0, 0.0));
 }
 
 }  // namespace
@@ -247,22 +295,39 @@ PYBIND11_MODULE(toolinc, m) {
       input_error(e.what());
     }
   });
+  py::class_<Result>(m, "Result",
+                     "A result: its fields as attributes (result.position) and items (result[\"position\"]); "
+                     "to_dict() gives the plain dict, as the executables' JSON")
+      .def("__getattr__", &Result::attribute)
+      .def("__getitem__", &Result::field)
+      .def("__contains__", &Result::contains)
+      .def("keys", &Result::keys)
+      .def("to_dict", &Result::to_dict)
+      .def("__repr__", [](const Result& r) {
+        return "<toolinc result: " + py::str(py::str(", ").attr("join")(r.keys())).cast<std::string>() + ">";
+      });
+  py::class_<ToolFrameResult, Result>(m, "ToolFrame", "estimate_tool_frame's result (a tool_frame)");
+  py::class_<TooltipResult, Result>(m, "Tooltip", "find_tooltip's result (a tooltip)");
+  py::class_<ToolPoseResult, Result>(m, "ToolPose", "align_pose's result (a tool_pose)");
+  py::class_<MergeReportResult, Result>(m, "MergeReport", "merge_views' report (a merge_report)");
   m.def("read_cloud", &read_cloud_py, py::arg("path"),
         "A PLY or PCD cloud as a dict: points (N, 3), colors (N, 3) uint8 or None, normals or None, frame, "
         "viewpoints (K, 3).");
   m.def("write_ply", &write_ply_py, py::arg("path"), py::arg("cloud"), py::arg("ascii") = false,
         "Writes a cloud ((N, 3) array or read_cloud's dict) as PLY, atomically.");
   m.def("estimate_tool_frame", &estimate_tool_frame_py, py::arg("cloud"), py::arg("config") = py::none(),
-        "The tool frame (estimate-frame's tool_frame JSON as a dict) of a cloud in the hand frame. Options: "
+        "The tool frame (a ToolFrame: estimate-frame's tool_frame JSON as an object) of a cloud in the hand frame. "
+        "Options: "
         "estimate-frame's long options as keywords (hand_radius=...), in a config dict, or config=FILE (as -c).");
   m.def("find_tooltip", &find_tooltip_py, py::arg("cloud"), py::arg("frame") = py::none(),
         py::arg("config") = py::none(),
-        "The tooltip (find-tooltip's tooltip JSON as a dict); frame: a tool_frame dict or file, estimated "
+        "The tooltip (a Tooltip: find-tooltip's tooltip JSON as an object); frame: a ToolFrame, a tool_frame dict or "
+        "file, estimated "
         "from the cloud when None. Options: find-tooltip's long options.");
   m.def("merge_views", &merge_views_py, py::arg("views"), py::arg("config") = py::none(),
-        "Merges hand-frame views (the first is the reference): (model cloud dict, merge_report dict). "
+        "Merges hand-frame views (the first is the reference): (model cloud dict, MergeReport). "
         "Options: merge-views' long options.");
   m.def("align_pose", &align_pose_py, py::arg("model"), py::arg("view"), py::arg("config") = py::none(),
         "How a known tool (model in the canonical pose) is held, from one partial view in the hand frame: "
-        "align-pose's tool_pose JSON as a dict. Options: align-pose's long options.");
+        "a ToolPose (align-pose's tool_pose JSON as an object). Options: align-pose's long options.");
 }

@@ -19,7 +19,14 @@ def test_tooltip_equals_find_tooltip(tool, family):
     cloud = HELD / f"{family}.ply"
     expected = cli_json(tool, "find-tooltip", cloud)
     tip = toolinc.find_tooltip(toolinc.read_cloud(str(cloud)))
-    assert isinstance(tip["position"], np.ndarray) and tip["position"].shape == (3,)
+    assert isinstance(tip, toolinc.Tooltip) and isinstance(tip, toolinc.Result)
+    assert isinstance(tip.position, np.ndarray) and tip.position.shape == (3,)
+    assert tip.confidence.confident == expected["confidence"]["confident"]
+    # Attributes and items are the same fields; to_dict() is the executable's JSON.
+    assert tip.position is tip["position"] and "position" in tip and "no_such_field" not in tip
+    assert set(tip.to_dict()) == set(expected) and json.dumps(tip.to_dict()["confidence"])
+    with pytest.raises(AttributeError):
+        tip.no_such_field  # noqa: B018
     assert np.max(np.abs(tip["position"] - np.array(expected["position"]))) <= 1e-9
     assert np.max(np.abs(tip["tool_frame"] - np.array(expected["tool_frame"]))) <= 1e-9
 
@@ -29,7 +36,7 @@ def test_frame_equals_estimate_frame_with_options(tool):
     expected = cli_json(tool, "estimate-frame", cloud, "--hand-radius", "0.07", "--voxel-size", "0.004")
     frame = toolinc.estimate_tool_frame(toolinc.read_cloud(str(cloud)), hand_radius=0.07,
                                         config={"voxel-size": 0.004, "hand-radius": 0.05})  # the keyword wins
-    assert frame["matrix"].shape == (4, 4)
+    assert isinstance(frame, toolinc.ToolFrame) and frame.matrix.shape == (4, 4)
     assert np.max(np.abs(frame["matrix"] - np.array(expected["matrix"]))) <= 1e-9
     assert frame["settings"]["hand-radius"] == 0.07
 
@@ -57,7 +64,10 @@ def test_given_frame_and_plain_arrays(tool):
     # A frame dict as estimate_tool_frame returns it; viewpoints travel with the cloud dict, so the plain
     # (N, 3) array (no viewpoints) is given the frame computed with them.
     tip = toolinc.find_tooltip(cloud["points"], frame=frame)
-    assert np.allclose(tip["position"], expected["position"], atol=1e-12)
+    assert np.allclose(tip.position, expected.position, atol=1e-12)
+    # The frame as a plain dict, as json.load gives it, works too.
+    tip = toolinc.find_tooltip(cloud["points"], frame=frame.to_dict())
+    assert np.allclose(tip.position, expected.position, atol=1e-12)
 
 
 def test_errors_carry_the_cli_messages(tool, tmp_path):
@@ -96,7 +106,7 @@ def test_merge_views_equals_merge_views(tool, tmp_path):
     assert tool("merge-views", *clouds, "-o", tmp_path / "model.ply", "--voxel-size", "0.003", "-q").returncode == 0
     model, report = toolinc.merge_views([toolinc.read_cloud(str(c)) for c in clouds], voxel_size=0.003)
     expected = toolinc.read_cloud(str(tmp_path / "model.ply"))
-    assert report["type"] == "merge_report" and report["ok"]
+    assert isinstance(report, toolinc.MergeReport) and report.type == "merge_report" and report.ok
     assert model["points"].shape == expected["points"].shape
     # The PLY stores float32 coordinates.
     assert np.max(np.abs(model["points"] - expected["points"])) <= 1e-6
@@ -109,7 +119,7 @@ def test_align_pose_finds_the_grasp(tool, tmp_path):
     assert tool("generate-tool", "--family", "hoe", "--grasp-seed", 5, "--truth", truth, "-o", held, "-q").returncode == 0
     expected = cli_json(tool, "align-pose", "--model", model, "--view", held)
     pose = toolinc.align_pose(toolinc.read_cloud(str(model)), toolinc.read_cloud(str(held)))
-    assert pose["type"] == "tool_pose"
+    assert isinstance(pose, toolinc.ToolPose) and pose.type == "tool_pose"
     assert np.max(np.abs(pose["matrix"] - np.array(expected["matrix"]))) <= 1e-9
     grasp = np.array(json.loads(truth.read_text())["hand_from_canonical"])
     assert np.max(np.abs(pose["matrix"][:3, 3] - grasp[:3, 3])) < 0.01  # the grasp, to the noise of one view
