@@ -28,7 +28,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 bin=$build/bin
-for tool in evaluate-sessions evaluate-models generate-tool; do
+for tool in evaluate-sessions evaluate-models evaluate-poses generate-tool; do
   [ -x "$bin/$tool" ] || { echo "measure.sh: $bin/$tool not found: build first (scripts/build.sh)" >&2; exit 2; }
 done
 if [ -n "$models" ] && [ ! -d "$models" ]; then
@@ -78,6 +78,9 @@ step "evaluate-models on $models_named"
 "$bin/evaluate-models" -q "$models" "${kind_args[@]}" --grasps $model_grasps -o "$work/models.json" >/dev/null
 printf '%s\n' "--grasps $model_grasps" >"$work/models.command"
 sessions model_sessions --models "$models" "${kind_args[@]}" --grasps $model_sessions
+step "evaluate-poses on $models_named"
+"$bin/evaluate-poses" -q "$models" "${kind_args[@]}" --grasps $model_sessions -j "$jobs" -o "$work/poses.json" >/dev/null
+printf '%s\n' "--grasps $model_sessions" >"$work/poses.command"
 
 # One core, as the floors are stated; CPU time, which a loaded machine changes less than wall time.
 bench() {  # name, filter
