@@ -173,8 +173,30 @@ std::vector<std::string> Command::named_files() const {
 void Command::prepare() {
   if (!config_file_.empty()) *config_ = parse_json(read_file(config_file_, kMaxJsonBytes), config_file_);
   if (!config_->is_object()) throw InputError(config_file_, "a config file must hold a JSON object");
-  for (CLI::Option* option : cli_.get_options())
-    if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite_number());
+  for (CLI::Option* option : cli_.get_options()) {
+    const bool floating = option->get_type_name().rfind("FLOAT", 0) == 0;
+    // Each check of a number first names a NaN or an infinity as such, and CLI11's positive and
+    // non-negative checks say so: alone they call a value out of a range whose bound is the largest double,
+    // 309 digits long. (CLI11 keeps no count of an option's checks: the index runs out.)
+    for (int i = 0;; ++i) {
+      CLI::Validator* check = nullptr;
+      try {
+        check = option->get_validator(i);
+      } catch (const CLI::OptionNotFound&) {
+        break;
+      }
+      const CLI::Validator inner = *check;
+      const std::string kind = check->get_description();
+      check->operation([inner, kind, floating](std::string& value) {
+        const std::string not_finite = floating ? finite_number()(value) : std::string();
+        if (!not_finite.empty()) return not_finite;
+        const std::string error = inner(value);
+        if (error.empty() || (kind != "POSITIVE" && kind != "NONNEGATIVE")) return error;
+        return (kind == "POSITIVE" ? "must be positive, not " : "must be zero or positive, not ") + value;
+      });
+    }
+    if (floating) option->check(finite_number());
+  }
 }
 
 void Command::parse(std::vector<std::string> args, const std::string& config_file) {

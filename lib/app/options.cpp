@@ -61,15 +61,24 @@ CLI::Option* add_xyz_option(CLI::App& cli, const std::string& name, std::vector<
 }
 
 void add_merge_options(CLI::App& cli, MergeConfig& config) {
-  cli.add_option("--voxel-size", config.voxel_size, "Model grid (m)")->capture_default_str();
-  cli.add_option("--max-translation", config.max_translation, "Largest correction per axis (m)")->capture_default_str();
+  cli.add_option("--voxel-size", config.voxel_size, "Model grid (m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cli.add_option("--max-translation", config.max_translation, "Largest correction per axis (m)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cli.add_option("--max-rotation-deg", config.max_rotation_deg, "Largest correction rotation (deg)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
   cli.add_option("--min-inlier-ratio", config.min_inlier_ratio, "Share of a view that must land on the model")
-      ->capture_default_str();
-  cli.add_option("--min-points", config.min_points, "A view with fewer points is rejected")->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cli.add_option("--min-points", config.min_points, "A view with fewer points is rejected")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cli.add_option("--max-correspondence", config.icp.max_correspondence, "ICP correspondence radius (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 }
 
 void add_align_pose_options(CLI::App& cli, AlignPoseConfig& c) {

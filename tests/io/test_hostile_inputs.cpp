@@ -221,7 +221,7 @@ TEST(FiniteOptions, NanAndInfinityAreRefusedOnTheCommandLineAndInAConfig) {
     expect_refused(run_tool("estimate-frame", q(kHoe) + " --symmetry-step-deg=" + value + out), "--symmetry-step-deg",
                    {}, "");
     expect_refused(run_tool("estimate-frame", q(kHoe) + " --voxel-size=" + value + out), "--voxel-size", {}, "");
-    // Options without a range check too.
+    // Named as not finite, not as out of a range whose bound prints as 309 digits.
     const ToolRun run = run_tool("merge-views", q(kHoe) + " --max-translation=" + value + " -o " + q(dir / "m.ply"));
     expect_refused(run, "--max-translation", {}, "");
     EXPECT_NE(run.err.find("must be a finite number, not " + value), std::string::npos) << run.err;
@@ -231,6 +231,19 @@ TEST(FiniteOptions, NanAndInfinityAreRefusedOnTheCommandLineAndInAConfig) {
   expect_refused(config, (dir / "config.json").string(), {}, "");
   EXPECT_NE(config.err.find("--symmetry-step-deg"), std::string::npos) << config.err;
   EXPECT_FALSE(fs::exists(dir / "f.json"));
+}
+
+// Out of range, merge-views' options are refused too: a negative grid once merged every view into an
+// empty model and exited 0.
+TEST(FiniteOptions, MergeViewsRefusesOptionsOutOfTheirRange) {
+  const fs::path dir = scratch_dir("merge_ranges");
+  for (const std::string& option :
+       {"--voxel-size=-1", "--voxel-size=0", "--max-translation=-0.1", "--max-rotation-deg=-5", "--min-inlier-ratio=7",
+        "--min-points=-1", "--max-correspondence=0"}) {
+    const ToolRun run = run_tool("merge-views", q(kHoe) + " " + option + " -o " + q(dir / "m.ply"));
+    expect_refused(run, option.substr(0, option.find('=')), {}, "");
+    EXPECT_FALSE(fs::exists(dir / "m.ply")) << option;
+  }
 }
 
 // --- ill-typed JSON --------------------------------------------------------------------------------
