@@ -39,11 +39,16 @@ def mm(metres):
     return "-" if metres is None else f"{1000 * metres:.1f} mm"
 
 
-def sessions_table(name):
-    result = load(name)
+def sessions_by_family(result):
     by_family = {}
     for s in result["sessions"]:
         by_family.setdefault(s["family"], []).append(s)
+    return by_family
+
+
+def sessions_table(name):
+    result = load(name)
+    by_family = sessions_by_family(result)
     lines = [
         "| kind | sessions | tooltip within 10 mm (95 % interval) | median error | with the true frame "
         "| confident | confident: tooltip within 15 mm (95 % interval) |",
@@ -66,9 +71,7 @@ def sessions_table(name):
 def worst_sessions(name, count=3):
     """The worst sessions of each kind: what still fails."""
     result = load(name)
-    by_family = {}
-    for s in result["sessions"]:
-        by_family.setdefault(s["family"], []).append(s)
+    by_family = sessions_by_family(result)
     lines = []
     for family, cases in by_family.items():
         misses = [s for s in cases if s["tooltip_error_m"] is None or s["tooltip_error_m"] > 0.010]

@@ -19,14 +19,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Exit code in `codes`, exactly one error line on stderr, naming the problem, and no output file.
-void expect_clean_failure(const std::string& tool, const fs::path& input, const std::string& extra,
-                          std::initializer_list<int> codes, const std::string& word) {
-  const fs::path output = input.parent_path() / (input.filename().string() + ".out.json");
-  const auto run = run_tool(tool, input.string() + " " + extra + " -o " + output.string());
-  SCOPED_TRACE(tool + " " + input.string() + "\n" + run.err);
-  EXPECT_NE(std::find(codes.begin(), codes.end(), run.exit_code), codes.end()) << "exit " << run.exit_code;
-  expect_failure_left_nothing(run, word, output, input.parent_path());
+// `tool INPUT EXTRA -o INPUT.out.json` fails with `code` and leaves nothing (testing::expect_clean_failure).
+void expect_clean_failure(const std::string& tool, const fs::path& input, const std::string& extra, int code,
+                          const std::string& word) {
+  toolinc::testing::expect_clean_failure(tool, input.string() + " " + extra,
+                                         input.parent_path() / (input.filename().string() + ".out.json"), code, word);
 }
 
 }  // namespace
@@ -92,54 +89,54 @@ TEST(FrameCli, HelpAndVersion) {
 
 TEST(FrameCli, BadInputFailsCleanly) {
   const auto dir = scratch_dir("frame-bad");
-  expect_clean_failure("estimate-frame", dir / "missing.ply", "", {2}, "missing.ply");
+  expect_clean_failure("estimate-frame", dir / "missing.ply", "", 2, "missing.ply");
 
   write_text(dir / "empty.ply", "");
-  expect_clean_failure("estimate-frame", dir / "empty.ply", "", {2}, "empty.ply");
+  expect_clean_failure("estimate-frame", dir / "empty.ply", "", 2, "empty.ply");
 
   const auto held = make_held_tool(ToolFamily::hook, 1);
   write_ply((dir / "whole.ply").string(), as_cloud(held.observed));
   const std::string whole = slurp(dir / "whole.ply");
   write_text(dir / "truncated.ply", whole.substr(0, whole.size() / 2));
-  expect_clean_failure("estimate-frame", dir / "truncated.ply", "", {2}, "truncated");
+  expect_clean_failure("estimate-frame", dir / "truncated.ply", "", 2, "truncated");
 
   write_text(dir / "noxyz.ply",
              "ply\nformat ascii 1.0\nelement vertex 2\nproperty float a\nproperty float b\n"
              "end_header\n1 2\n3 4\n");
-  expect_clean_failure("estimate-frame", dir / "noxyz.ply", "", {2}, "x/y/z");
+  expect_clean_failure("estimate-frame", dir / "noxyz.ply", "", 2, "x/y/z");
 
   write_text(dir / "badheader.pcd",
              "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
              "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA foo\n1 2 3\n");
-  expect_clean_failure("estimate-frame", dir / "badheader.pcd", "", {2}, "badheader.pcd");
+  expect_clean_failure("estimate-frame", dir / "badheader.pcd", "", 2, "badheader.pcd");
 
   write_text(dir / "nan.ply",
              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
              "property float z\nend_header\nnan nan nan\nnan 0 0\n0 nan 1\n");
-  expect_clean_failure("estimate-frame", dir / "nan.ply", "", {2}, "finite");
+  expect_clean_failure("estimate-frame", dir / "nan.ply", "", 2, "finite");
 
   write_text(dir / "three.ply",
              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
              "property float z\nend_header\n0.1 -0.1 0\n0.1 -0.2 0\n0.2 -0.1 0\n");
-  expect_clean_failure("estimate-frame", dir / "three.ply", "", {3}, "too few");
+  expect_clean_failure("estimate-frame", dir / "three.ply", "", 3, "too few");
 
   Points line;
   for (int i = 0; i < 400; ++i) line.emplace_back(0.1, -0.1 - 0.0005 * i, 0.0);
   write_ply((dir / "line.ply").string(), as_cloud(line));
-  expect_clean_failure("estimate-frame", dir / "line.ply", "", {3}, "collinear");
-  expect_clean_failure("find-tooltip", dir / "line.ply", "", {3}, "collinear");
+  expect_clean_failure("estimate-frame", dir / "line.ply", "", 3, "collinear");
+  expect_clean_failure("find-tooltip", dir / "line.ply", "", 3, "collinear");
 
   // A mirror-image frame (det -1) and a non-orthonormal one are refused, naming the frame file.
   write_text(dir / "mirror.json", R"({"type": "tool_frame", "version": 1, "matrix":
       [[-1,0,0,0.1],[0,1,0,-0.1],[0,0,1,0],[0,0,0,1]]})");
-  expect_clean_failure("find-tooltip", dir / "whole.ply", "--frame " + (dir / "mirror.json").string(), {2},
+  expect_clean_failure("find-tooltip", dir / "whole.ply", "--frame " + (dir / "mirror.json").string(), 2,
                        "mirror.json");
   write_text(dir / "skew.json", R"({"type": "tool_frame", "version": 1, "matrix":
       [[1,0.2,0,0.1],[0,1,0,-0.1],[0,0,1,0],[0,0,0,1]]})");
-  expect_clean_failure("find-tooltip", dir / "whole.ply", "--frame " + (dir / "skew.json").string(), {2},
+  expect_clean_failure("find-tooltip", dir / "whole.ply", "--frame " + (dir / "skew.json").string(), 2,
                        "not a rotation");
   write_text(dir / "wrongtype.json", R"({"type": "tooltip", "version": 1})");
-  expect_clean_failure("find-tooltip", dir / "whole.ply", "--frame " + (dir / "wrongtype.json").string(), {2},
+  expect_clean_failure("find-tooltip", dir / "whole.ply", "--frame " + (dir / "wrongtype.json").string(), 2,
                        "tool_frame");
 }
 
