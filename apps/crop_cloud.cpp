@@ -33,6 +33,16 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_option("--outlier-std", config.outlier_std, "Statistical outlier removal: deviations")->capture_default_str();
   cli.add_option("--min-points", config.min_points, "Fewer points left is a failure (exit 3)")->capture_default_str();
+  cli.add_flag("--image-mask", config.image_mask,
+               "Trim the blob's border to the tool's edge in the left image (matched stereo fattens the blob past it)");
+  cli.add_option("--mask-band", config.mask.band_px,
+                 "px: with --image-mask, how far inside the blob's border the image may trim (the fattening's reach)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cli.add_option("--mask-surround", config.mask.surround_px,
+                 "px: with --image-mask, the background's colours are learnt this far around the blob")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cli.add_flag("--flood", config.flood, "Keep only the region 3D-connected to the blob's centre");
   cli.add_option("--edge-radius", config.edge_radius_px,
                  "px: drop mask pixels this close to a depth edge (block-matched disparity: 2 for SFM's SGBM; 0 off)")

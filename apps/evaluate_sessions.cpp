@@ -59,8 +59,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cli.add_option("--stereo", stereo,
-                 "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges, "
-                 "crop-cloud --edge-radius 2)")
+                 "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges and "
+                 "trims the blob "
+                 "by the image, crop-cloud --edge-radius 2 --image-mask)")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--grasp", grasp, "The sessions' grasps, as simulate-session --grasp")
@@ -74,7 +75,7 @@ int main(int argc, char** argv) {
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
   return command.run(argc, argv, [&] {
     // Disparity matched over windows is fattened at depth edges.
-    if (stereo != "ideal") pipeline.crop.edge_radius_px = toolinc::kSgbmEdgeRadiusPx;
+    if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     const toolinc::ExplorationGrasps drawn = toolinc::exploration_grasps_from_string(grasp);
     std::vector<toolinc::ToolFamily> families;

@@ -102,6 +102,13 @@ int drop_depth_edges(cv::Mat& mask, const std::vector<float>& disparity, int rad
 
 }  // namespace
 
+CropConfig matched_stereo_crop() {
+  CropConfig config;
+  config.edge_radius_px = 2;
+  config.image_mask = true;
+  return config;
+}
+
 CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
                      const CropConfig& config) {
   CropResult result;
@@ -111,6 +118,10 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   if (mask.empty()) {
     mask = closest_blob_mask(view.disparity, config.blob);
     result.mask_source = "closest blob on the disparity";
+  }
+  if (config.image_mask) {
+    mask = tool_mask(view.left, mask, config.mask);
+    result.mask_source += ", trimmed by the left image";
   }
   result.mask_pixels = cv::countNonZero(mask);
   if (result.mask_pixels == 0) throw MethodError(fmt::format("{}: the tool's blob is empty", record.dir));

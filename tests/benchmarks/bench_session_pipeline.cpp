@@ -37,9 +37,7 @@ const SimulatedSession& sample_session(StereoModel stereo = SessionSimulatorConf
 
 // crop's settings per stereo model, as evaluate-sessions uses them.
 CropConfig crop_config(StereoModel stereo) {
-  CropConfig crop;
-  if (stereo != StereoModel::ideal) crop.edge_radius_px = kSgbmEdgeRadiusPx;
-  return crop;
+  return stereo == StereoModel::ideal ? CropConfig{} : matched_stereo_crop();
 }
 
 // Every view crop-cloud --all keeps (a matched view may have no blob: the closest blob leaked into the table).

@@ -182,13 +182,6 @@ int gross_errors_merged(StereoModel stereo, std::uint32_t sessions, const CropCo
   return bad_merged;
 }
 
-// crop's settings for matched (elas, sgbm) sessions, as evaluate-sessions uses them.
-CropConfig matched_crop() {
-  CropConfig crop;
-  crop.edge_radius_px = kSgbmEdgeRadiusPx;
-  return crop;
-}
-
 }  // namespace
 
 TEST(SessionPipeline, GrossErrorsRejectedRestMerged) { EXPECT_EQ(gross_errors_merged(StereoModel::ideal, 4), 0); }
@@ -204,7 +197,7 @@ TEST(SessionPipeline, EvaluateSessionsOnSgbmSessions) {
   SessionSimulatorConfig config = family_session(ToolFamily::hook, 100);
   config.stereo = StereoModel::sgbm;
   PipelineConfig pipeline;
-  pipeline.crop = matched_crop();
+  pipeline.crop = matched_stereo_crop();
   const SessionErrors e = evaluate_simulated_session(config, pipeline);
   EXPECT_EQ(session["failure"], e.tool.failure);
   EXPECT_EQ(session["model_median_m"].get<double>(), e.model_median_m);
@@ -219,14 +212,14 @@ TEST(SessionPipeline, DefaultStereoGrossErrorsRejectedRestMerged) {
   // lie on a part that slides along itself (a handle along its axis) fits where it lands, and the
   // inlier test cannot tell it from a good view: measured, none of the 8 merged in a GCC build, one in a
   // Clang build (the simulated disparities differ in the last bits, and so do the crops).
-  EXPECT_LE(gross_errors_merged(StereoModel::elas, 8, matched_crop()), 1);
+  EXPECT_LE(gross_errors_merged(StereoModel::elas, 8, matched_stereo_crop()), 1);
 }
 
 TEST(SessionPipeline, DefaultStereoSessionsCompleteAndDepthEdgesAreDropped) {
   // Every family, two grasps, the default (the robot's) stereo: every session merges, and crop's
   // depth-edge filter removes far-off (smeared, flying) points and keeps most good ones.
   PipelineConfig pipeline;
-  pipeline.crop = matched_crop();
+  pipeline.crop = matched_stereo_crop();
   std::vector<double> model_errors;
   int far_without = 0, far_with = 0, points_without = 0, points_with = 0;
   int tips_within_20mm = 0, true_frame_within_20mm = 0, tips_in_cloud = 0;

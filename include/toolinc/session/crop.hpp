@@ -7,13 +7,9 @@
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/session/blob.hpp"
 #include "toolinc/session/session.hpp"
+#include "toolinc/session/tool_mask.hpp"
 
 namespace toolinc {
-
-// crop's edge radius for the robot's SGBM (7 px blocks): fattening reaches up to the block's half-size,
-// 3 px, but dropping 3 px also shaves the true tips; 2 px kept the most (evaluate-sessions on 96 SGBM
-// sessions, tooltip within 20 mm: 0 px 54, 2 px 61, 3 px 41; README).
-constexpr int kSgbmEdgeRadiusPx = 2;
 
 struct CropConfig {
   // The hand-frame box the tool can occupy (inclusive): a tool reaches up to 40 cm from the hand, its
@@ -32,8 +28,11 @@ struct CropConfig {
   // their distance (a surface at 45 cm seen 85 degrees from frontal changes by 1.7 px per pixel), or
   // none (no match beside a matched pixel is an occlusion or a wrong-match edge). 0 (default) disables:
   // on disparity without fattening it only shaves the tool's true edges, tip included.
-  int edge_radius_px = 0;         // px (kSgbmEdgeRadiusPx for the robot's SGBM)
-  double edge_jump_px = 2.0;      // px of disparity per pixel
+  int edge_radius_px = 0;     // px (matched_stereo_crop's for matched disparity)
+  double edge_jump_px = 2.0;  // px of disparity per pixel
+  // The blob less what the left image shows to be background at its border (tool_mask.hpp).
+  bool image_mask = false;
+  ToolMaskConfig mask;
   bool flood = false;             // grow the region from the blob's centre through 3D continuity
   double flood_distance = 0.004;  // m: neighbouring points closer than this are connected (SFM's Flood3D)
   BlobDetectorConfig blob;        // used when the view has no blob.png
@@ -45,6 +44,12 @@ struct CropResult {
   std::string points_source;  // "points.pcd" or "disparity reprojection (approximate)"
   int mask_pixels = 0, edge_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
 };
+
+// The settings for disparity matched from the two images (SFM's LIBELAS or SGBM), which fattens the
+// tool past its edges: depth edges dropped within 2 px (SGBM's 7 px blocks fatten by up to their half-size,
+// 3 px, but dropping 3 px also shaves the true tips: on 96 SGBM sessions the tooltip was within 20 mm in
+// 54 with 0 px, 61 with 2, 41 with 3), and the blob trimmed by the left image.
+CropConfig matched_stereo_crop();
 
 // Throws MethodError when the mask is empty or fewer than min_points remain.
 CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
