@@ -3,6 +3,7 @@
 # through sudo. Skips apt entirely when everything is already installed.
 set -euo pipefail
 
+# scripts/install-deps.sh [PACKAGE...]: those packages instead (the Slurm check's, for one).
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libpcl-dev libopencv-dev
@@ -12,6 +13,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
   clang-14 libclang-rt-14-dev llvm-14 clang-format-14
 )
+[ $# -gt 0 ] && packages=("$@")
 
 missing=()
 for p in "${packages[@]}"; do

@@ -7,7 +7,8 @@
 #      accuracy loops, which exercise no code the rest of the suite does not and already ran in 1
 #      (SLOW_ACCURACY below);
 #   3. every fuzz target of that build for FUZZ_SECONDS each (default 30) on its seed corpus.
-# SANITIZE=0 runs 1 only.
+# Between 1 and 2, scripts/slurm-check.sh: the Snakemake workflow through a real one-node Slurm.
+# SANITIZE=0 runs 1 (and the Slurm check) only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -25,6 +26,9 @@ scripts/format.sh --check
 build=${BUILD_DIR:-build}
 timed "release build" env CMAKE_ARGS="-DTOOLINC_WARNINGS_AS_ERRORS=ON" scripts/build.sh
 timed "release tests" ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
+# The workflow through a real one-node Slurm with accounting (root, or sudo; installs and starts daemons
+# of its own, stops them at the end). SLURM_CHECK=0 leaves it out.
+if [ "${SLURM_CHECK:-1}" != 0 ]; then timed "slurm check" scripts/slurm-check.sh "$build/bin"; fi
 
 if [ "${SANITIZE:-1}" != 0 ]; then
   sanitize=${SANITIZE_BUILD_DIR:-build-sanitize}

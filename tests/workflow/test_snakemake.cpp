@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "support/files.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/app/progress.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -119,6 +120,43 @@ TEST(Snakemake, ThreeSessionsAndTheSummary) {
   const std::string slurm = slurp(dir / "slurm.log");
   EXPECT_NE(slurm.find("rule merge_views"), std::string::npos);
   EXPECT_NE(slurm.find("runtime=60"), std::string::npos) << slurm;
+}
+
+// A session whose step fails: a line says so with the step's own error, the others finish, the table at the
+// end lists every session; once the session is mended, the same command runs its steps only.
+TEST(Snakemake, AFailedSessionReportedTheOthersDoneAndResumed) {
+  ASSERT_EQ(std::system("command -v snakemake >/dev/null 2>&1"), 0) << "snakemake is not installed";
+  const auto dir = scratch_dir("snakemake-failed");
+  for (const char* name : {"hoe", "broken"})
+    ASSERT_EQ(
+        run_tool("simulate-session", "-q --stereo ideal --family hoe --seed 1 -o " + (dir / "sessions" / name).string())
+            .exit_code,
+        0);
+  const fs::path disparity = dir / "sessions/broken/views/000/disparity.png";
+  fs::copy_file(disparity, dir / "disparity.png");
+  write_text(disparity, "not a PNG");
+  const std::string command = "snakemake -s " + kSnakefile + " --cores 2 --keep-going --directory " + dir.string() +
+                              " --config sessions=" + (dir / "sessions").string() + " out=" + (dir / "out").string() +
+                              " bin=" + TOOLINC_BIN_DIR;
+  EXPECT_NE(shell(command, dir / "run.log"), 0);
+  const std::string log = slurp(dir / "run.log");
+  const std::string error =
+      "crop-cloud: error: " + disparity.parent_path().string() + ": disparity.png is not a readable PNG";
+  EXPECT_NE(log.find("toolinc: session broken: crop_cloud failed: " + error), std::string::npos) << log;
+  EXPECT_NE(log.find("toolinc: session hoe done (1 of 2)"), std::string::npos) << log;
+  EXPECT_NE(log.find("toolinc: broken   failed   crop_cloud: " + error), std::string::npos) << log;
+  EXPECT_NE(log.find("toolinc: hoe      done"), std::string::npos) << log;
+  EXPECT_NE(log.find("toolinc: 1 done, 1 failed, 0 not run, of 2"), std::string::npos) << log;
+  EXPECT_TRUE(fs::exists(dir / "out/hoe/report.html"));
+  EXPECT_FALSE(fs::exists(dir / "out/summary.csv"));  // it waits for every session
+
+  fs::copy_file(dir / "disparity.png", disparity, fs::copy_options::overwrite_existing);
+  ASSERT_EQ(shell(command, dir / "again.log"), 0) << slurp(dir / "again.log");
+  const std::string again = slurp(dir / "again.log");
+  EXPECT_EQ(again.find("wildcards: name=hoe"), std::string::npos) << again;
+  EXPECT_NE(again.find("toolinc: session broken done (2 of 2)"), std::string::npos) << again;
+  EXPECT_NE(again.find("toolinc: 2 done, 0 failed, 0 not run, of 2"), std::string::npos) << again;
+  EXPECT_TRUE(fs::exists(dir / "out/summary.csv"));
 }
 
 TEST(Snakemake, NoSessionsIsAClearError) {
