@@ -32,7 +32,7 @@ if [ "${SLURM_CHECK:-1}" != 0 ]; then timed "slurm check" scripts/slurm-check.sh
 
 if [ "${SANITIZE:-1}" != 0 ]; then
   sanitize=${SANITIZE_BUILD_DIR:-build-sanitize}
-  SLOW_ACCURACY='^(ToolFrameAccuracy\.EveryFamilyManyGrasps|AlignPose\.AccuracyOverRandomGraspsOfEveryFamily|SessionPipeline\.EveryFamilyManySessions|MergeViews\.EveryFamilyWithKinematicError|AppearanceAccuracy\.OtherGraspsRecognisedWithBuiltinFeatures|ToolFrameAccuracy\.RealShapesManyGrasps)$'
+  SLOW_ACCURACY='^(ToolFrameAccuracy\.EveryFamilyManyGrasps|AlignPose\.AccuracyOverRandomGraspsOfEveryFamily|SessionPipeline\.EveryFamilyManySessions|MergeViews\.EveryFamilyWithKinematicError|AppearanceAccuracy\.OtherGraspsRecognisedWithBuiltinFeatures|ToolFrameAccuracy\.RealShapesManyGrasps|ToolMaskAccuracy\.CloserToTheTruthThanTheBlobOnMatchedStereo)$'
   # The install-and-examples test builds a second project against an install, and measure_script runs
   # the evaluate-* executables the accuracy loops already ran: the Release run covers both.
   SLOW_ACCURACY="$SLOW_ACCURACY|^package_install_and_examples$|^measure_script$"

@@ -90,7 +90,7 @@ TEST(ToolMask, EmptyBlobAndBadInput) {
 // On the default (LIBELAS-like) stereo: the closest blob of the disparity against the simulator's true
 // hand-and-tool mask, before and after the image trims it; views where the blob is a small part of the
 // tool (the matcher broke it at a depth edge) are counted but cannot be mended by trimming.
-TEST(ToolMask, CloserToTheTruthThanTheBlobOnMatchedStereo) {
+TEST(ToolMaskAccuracy, CloserToTheTruthThanTheBlobOnMatchedStereo) {
   std::vector<double> blob_iou, mask_iou;
   for (const auto family : all_families())
     for (std::uint32_t seed = 1; seed <= 2; ++seed) {
