@@ -60,8 +60,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   cli.add_option("--stereo", stereo,
                  "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges and "
-                 "trims the blob "
-                 "by the image, crop-cloud --edge-radius 2 --image-mask)")
+                 "trims the blob by the image, crop-cloud --edge-radius 2 --image-mask)")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--grasp", grasp, "The sessions' grasps, as simulate-session --grasp")
