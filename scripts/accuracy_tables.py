@@ -160,6 +160,14 @@ def bench_table(name, what):
     return "\n".join(lines)
 
 
+def peers_output():
+    path = os.path.join(work, "bench_peers.txt")
+    if not os.path.exists(path):
+        return "Not measured: bench_peers was not built (TOOLINC_BUILD_BENCHMARKS)."
+    with open(path) as f:
+        return "```\n" + f.read().strip() + "\n```"
+
+
 models, worst_models = models_table()
 poses, wrong_poses = poses_table()
 print(f"""# Accuracy and speed, measured
@@ -248,4 +256,14 @@ a five-view session (0 ideal, 1 SGBM, 2 LIBELAS-like stereo).
 `bench_align_pose`: align-pose of a generated model onto a partial view, per family.
 
 {bench_table("bench_align_pose", "align-pose")}
+
+### Against the peers
+
+`bench_peers`: each building block beside the same block of nanoflann, PCL and Open3D where they are
+installed (`apt-get install libnanoflann-dev libopen3d-dev`; benchmark-only, never needed by the library),
+in one process, on the same clouds, on one core: median wall time, its ratio to the fastest peer, and what
+the block produced, so that times compare at equal results. toolinc has no point-to-point ICP; its
+point-to-plane row stands beside the peers' point-to-point.
+
+{peers_output()}
 """, end="")

@@ -93,6 +93,10 @@ bench() {  # name, filter
 bench bench_tool_frame 'BM_FrameAndTooltip'
 bench bench_session_pipeline 'BM_CropView|BM_MergeFiveViews|BM_WholePipeline'
 bench bench_align_pose 'BM_AlignPose'
+if [ -x "$build/bench/bench_peers" ]; then
+  step "bench_peers"
+  taskset -c 0 "$build/bench/bench_peers" "$bench_time" >"$work/bench_peers.txt"
+fi
 
 step "writing $output"
 python3 scripts/accuracy_tables.py "$work" "$models" "$models_named" >"$work/accuracy.md"

@@ -29,8 +29,15 @@ cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& blob, const ToolMaskCo
                   : (outside.at<float>(v, u) <= config.surround_px ? cv::GC_PR_BGD : cv::GC_BGD);
     }
   cv::Mat background_model, foreground_model;
+  // GrabCut seeds its colour models by k-means from OpenCV's per-thread generator: a fixed seed makes a
+  // view's mask independent of whatever drew from that generator before (other views, other threads'
+  // share of a batch). The caller's generator is left as it was.
+  cv::RNG& generator = cv::theRNG();
+  const cv::RNG callers = generator;
+  generator = cv::RNG(0x746f6f6c);
   cv::grabCut(left_bgr(roi), labels, cv::Rect(), background_model, foreground_model, config.iterations,
               cv::GC_INIT_WITH_MASK);
+  generator = callers;
   cv::Mat tool = ((labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD)) & on;
   tool.copyTo(mask(roi));
   return mask;

@@ -22,6 +22,8 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
+
+#include "pcl_cloud.hpp"
 #endif
 
 using namespace toolinc;
@@ -91,13 +93,6 @@ void BM_AlignPose(benchmark::State& state) {
 }
 
 #ifdef TOOLINC_WITH_PCL
-pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const Points& points) {
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  for (const auto& p : points)
-    cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
-  return cloud;
-}
-
 // By default the original's alignPointClouds: view onto model, 7 cm correspondences, epsilon 1e-4 (stops
 // once a step moves < 1 cm and turns < 0.81 deg), 10000 iterations.
 Eigen::Matrix4d pcl_icp(const Points& view, const Points& model, const Eigen::Matrix4d& initial,

@@ -90,6 +90,24 @@ TEST(ToolMask, EmptyBlobAndBadInput) {
 // On the default (LIBELAS-like) stereo: the closest blob of the disparity against the simulator's true
 // hand-and-tool mask, before and after the image trims it; views where the blob is a small part of the
 // tool (the matcher broke it at a depth edge) are counted but cannot be mended by trimming.
+// A view's mask must not depend on what drew from OpenCV's per-thread generator before it (GrabCut's
+// k-means does): otherwise crop-cloud --view 3 and --all, or a batch's threads, disagree.
+TEST(ToolMask, TheSameWhateverRanBeforeOnTheThread) {
+  SessionSimulatorConfig config = family_session(ToolFamily::hook, 1);
+  config.write_points = false;
+  const SimulatedSession session = simulate_session(config);
+  for (const auto& view : session.views) {
+    if (cv::countNonZero(view.blob) == 0) continue;
+    cv::theRNG() = cv::RNG(1);
+    const cv::Mat first = tool_mask(view.left, view.blob);
+    cv::theRNG() = cv::RNG(2);
+    const std::uint64_t before = cv::theRNG().state;
+    const cv::Mat second = tool_mask(view.left, view.blob);
+    EXPECT_EQ(cv::countNonZero(first != second), 0);
+    EXPECT_EQ(cv::theRNG().state, before) << "the caller's generator is left as it was";
+  }
+}
+
 TEST(ToolMaskAccuracy, CloserToTheTruthThanTheBlobOnMatchedStereo) {
   std::vector<double> blob_iou, mask_iou;
   for (const auto family : all_families())

@@ -1,0 +1,444 @@
+// Each building block of the pipeline beside the same block of the libraries a researcher would otherwise
+// use (nanoflann, PCL, Open3D), in one process, on the same clouds, on one core. Per row: the median time
+// of repeated runs, its ratio to the fastest peer, and what the block produced (answers, points kept,
+// final error), so that times are compared at equal results. A peer that is not installed is left out.
+//
+//   build/bench/bench_peers [SECONDS]   (each block repeated for about SECONDS, 0.5 by default; the peers'
+//                                        OpenMP is held to one thread by the program itself)
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "toolinc/ann/kdtree.hpp"
+#include "toolinc/cloud/preprocessing.hpp"
+#include "toolinc/core/error.hpp"
+#include "toolinc/registration/icp.hpp"
+#include "toolinc/registration/merge_views.hpp"
+#include "toolinc/session/crop.hpp"
+#include "toolinc/synth/partial_view.hpp"
+#include "toolinc/synth/session_simulator.hpp"
+
+#ifdef TOOLINC_WITH_NANOFLANN
+#include <nanoflann.hpp>
+#endif
+#ifdef TOOLINC_WITH_PCL
+#include <pcl/features/normal_3d.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
+
+#include "pcl_cloud.hpp"
+#endif
+#ifdef TOOLINC_WITH_OPEN3D
+#include <open3d/geometry/KDTreeFlann.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/Registration.h>
+#include <open3d/pipelines/registration/TransformationEstimation.h>
+#endif
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+using namespace toolinc;
+
+namespace {
+
+constexpr int kNeighbours = 10;           // k of the k-NN queries, of normals and of the outlier filter
+constexpr double kRadius = 0.01;          // m: radius queries (the density checks' radius)
+constexpr double kVoxel = 0.004;          // m: the tool frame's resampling
+constexpr double kOutlierStd = 3.0;       // crop-cloud's statistical outlier filter
+constexpr double kCorrespondence = 0.02;  // m: ICP's correspondence radius (toolinc's default)
+
+double min_time_ms = 500.0;
+
+// Median wall time of fn in ms: repeated until min_time_ms have passed (at least 3, at most 200 runs).
+double median_ms(const std::function<void()>& fn) {
+  std::vector<double> times;
+  double total = 0.0;
+  while (times.size() < 3 || (total < min_time_ms && times.size() < 200)) {
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    times.push_back(ms);
+    total += ms;
+  }
+  std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+  return times[times.size() / 2];
+}
+
+struct Row {
+  std::string library;
+  double ms;
+  std::string result;
+};
+
+// One block's rows, toolinc first, with each time's ratio to the fastest peer's.
+void print_block(const std::string& block, const std::vector<Row>& rows) {
+  double fastest_peer = 0.0;
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    fastest_peer = fastest_peer == 0.0 ? rows[i].ms : std::min(fastest_peer, rows[i].ms);
+  std::printf("\n%s\n", block.c_str());
+  for (const auto& row : rows) {
+    const std::string ratio = fastest_peer > 0 ? std::to_string(row.ms / fastest_peer).substr(0, 4) : "-";
+    std::printf("  %-10s %9.3f ms  x%-5s  %s\n", row.library.c_str(), row.ms, ratio.c_str(), row.result.c_str());
+  }
+}
+
+#ifdef TOOLINC_WITH_NANOFLANN
+struct NanoCloud {
+  const Points& points;
+  std::size_t kdtree_get_point_count() const { return points.size(); }
+  double kdtree_get_pt(std::size_t i, std::size_t d) const { return points[i][static_cast<int>(d)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using NanoTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, NanoCloud>, NanoCloud, 3, std::uint32_t>;
+#endif
+
+#ifdef TOOLINC_WITH_OPEN3D
+open3d::geometry::PointCloud to_open3d(const Points& points) {
+  open3d::geometry::PointCloud cloud;
+  cloud.points_.assign(points.begin(), points.end());
+  return cloud;
+}
+#endif
+
+// Neighbour search on one cloud: building the index, k-NN of every point, and counting every point's
+// neighbours within kRadius. The checksums (sum of k-NN distances, sum of counts) show equal answers.
+void neighbour_search(const std::string& name, const Points& points) {
+  std::vector<Row> build, knn, radius;
+  {
+    build.push_back({"toolinc", median_ms([&] { const KdTree tree(points); }), ""});
+    const KdTree tree(points);
+    double sum = 0.0;
+    knn.push_back({"toolinc", median_ms([&] {
+                     sum = 0.0;
+                     for (const auto& p : points)
+                       for (const auto& n : tree.knn(p, kNeighbours)) sum += std::sqrt(n.distance2);
+                   }),
+                   ""});
+    knn.back().result = "sum of distances " + std::to_string(sum);
+    std::size_t count = 0;
+    radius.push_back({"toolinc", median_ms([&] {
+                        count = 0;
+                        for (const auto& p : points) count += tree.count_within(p, kRadius);
+                      }),
+                      ""});
+    radius.back().result = "neighbours " + std::to_string(count);
+  }
+#ifdef TOOLINC_WITH_NANOFLANN
+  {
+    const NanoCloud cloud{points};
+    build.push_back({"nanoflann", median_ms([&] {
+                       NanoTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(12));
+                       tree.buildIndex();
+                     }),
+                     ""});
+    NanoTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(12));
+    tree.buildIndex();
+    double sum = 0.0;
+    std::vector<std::uint32_t> indices(kNeighbours);
+    std::vector<double> distances(kNeighbours);
+    knn.push_back({"nanoflann", median_ms([&] {
+                     sum = 0.0;
+                     for (const auto& p : points) {
+                       const std::size_t found =
+                           tree.knnSearch(p.data(), kNeighbours, indices.data(), distances.data());
+                       for (std::size_t j = 0; j < found; ++j) sum += std::sqrt(distances[j]);
+                     }
+                   }),
+                   ""});
+    knn.back().result = "sum of distances " + std::to_string(sum);
+    std::size_t count = 0;
+    std::vector<std::pair<std::uint32_t, double>> matches;
+    const nanoflann::SearchParams unsorted(32, 0.0, false);  // the neighbours' order is not needed
+    radius.push_back({"nanoflann", median_ms([&] {
+                        count = 0;
+                        for (const auto& p : points)
+                          count += tree.radiusSearch(p.data(), kRadius * kRadius, matches, unsorted);
+                      }),
+                      ""});
+    radius.back().result = "neighbours " + std::to_string(count);
+  }
+#endif
+#ifdef TOOLINC_WITH_PCL
+  {
+    const auto cloud = to_pcl(points);
+    build.push_back({"PCL", median_ms([&] {
+                       pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+                       tree.setInputCloud(cloud);
+                     }),
+                     ""});
+    pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+    tree.setInputCloud(cloud);
+    double sum = 0.0;
+    std::vector<int> indices;
+    std::vector<float> distances;
+    knn.push_back({"PCL", median_ms([&] {
+                     sum = 0.0;
+                     for (const auto& p : *cloud) {
+                       tree.nearestKSearch(p, kNeighbours, indices, distances);
+                       for (const float d : distances) sum += std::sqrt(static_cast<double>(d));
+                     }
+                   }),
+                   ""});
+    knn.back().result = "sum of distances " + std::to_string(sum);
+    std::size_t count = 0;
+    radius.push_back({"PCL", median_ms([&] {
+                        count = 0;
+                        for (const auto& p : *cloud)
+                          count += static_cast<std::size_t>(tree.radiusSearch(p, kRadius, indices, distances));
+                      }),
+                      ""});
+    radius.back().result = "neighbours " + std::to_string(count);
+  }
+#endif
+#ifdef TOOLINC_WITH_OPEN3D
+  {
+    const auto cloud = to_open3d(points);
+    build.push_back({"Open3D", median_ms([&] { const open3d::geometry::KDTreeFlann tree(cloud); }), ""});
+    const open3d::geometry::KDTreeFlann tree(cloud);
+    double sum = 0.0;
+    std::vector<int> indices;
+    std::vector<double> distances;
+    knn.push_back({"Open3D", median_ms([&] {
+                     sum = 0.0;
+                     for (const auto& p : points) {
+                       tree.SearchKNN(p, kNeighbours, indices, distances);
+                       for (const double d : distances) sum += std::sqrt(d);
+                     }
+                   }),
+                   ""});
+    knn.back().result = "sum of distances " + std::to_string(sum);
+    std::size_t count = 0;
+    radius.push_back({"Open3D", median_ms([&] {
+                        count = 0;
+                        for (const auto& p : points)
+                          count += static_cast<std::size_t>(tree.SearchRadius(p, kRadius, indices, distances));
+                      }),
+                      ""});
+    radius.back().result = "neighbours " + std::to_string(count);
+  }
+#endif
+  const std::string of = " (" + name + ", " + std::to_string(points.size()) + " points)";
+  print_block("kd-tree build" + of, build);
+  print_block("k-NN, k = " + std::to_string(kNeighbours) + ", every point" + of, knn);
+  print_block("neighbours within 10 mm, every point" + of, radius);
+}
+
+// Voxel downsampling and statistical outlier removal of one cloud; the points each keeps.
+void filters(const std::string& name, const Points& points) {
+  std::vector<Row> voxel, outliers;
+  std::size_t kept = 0;
+  voxel.push_back({"toolinc", median_ms([&] { kept = voxel_downsample(points, kVoxel).size(); }), ""});
+  voxel.back().result = std::to_string(kept) + " points";
+  outliers.push_back(
+      {"toolinc", median_ms([&] { kept = statistical_inliers(points, kNeighbours, kOutlierStd).size(); }), ""});
+  outliers.back().result = std::to_string(kept) + " kept";
+#ifdef TOOLINC_WITH_PCL
+  {
+    const auto cloud = to_pcl(points);
+    pcl::PointCloud<pcl::PointXYZ> out;
+    voxel.push_back({"PCL", median_ms([&] {
+                       pcl::VoxelGrid<pcl::PointXYZ> grid;
+                       grid.setInputCloud(cloud);
+                       grid.setLeafSize(static_cast<float>(kVoxel), static_cast<float>(kVoxel),
+                                        static_cast<float>(kVoxel));
+                       grid.filter(out);
+                     }),
+                     ""});
+    voxel.back().result = std::to_string(out.size()) + " points";
+    outliers.push_back({"PCL", median_ms([&] {
+                          pcl::StatisticalOutlierRemoval<pcl::PointXYZ> filter;
+                          filter.setInputCloud(cloud);
+                          filter.setMeanK(kNeighbours);
+                          filter.setStddevMulThresh(kOutlierStd);
+                          filter.filter(out);
+                        }),
+                        ""});
+    outliers.back().result = std::to_string(out.size()) + " kept";
+  }
+#endif
+#ifdef TOOLINC_WITH_OPEN3D
+  {
+    const auto cloud = to_open3d(points);
+    voxel.push_back({"Open3D", median_ms([&] { kept = cloud.VoxelDownSample(kVoxel)->points_.size(); }), ""});
+    voxel.back().result = std::to_string(kept) + " points";
+    outliers.push_back({"Open3D", median_ms([&] {
+                          kept = std::get<0>(cloud.RemoveStatisticalOutliers(kNeighbours, kOutlierStd))->points_.size();
+                        }),
+                        ""});
+    outliers.back().result = std::to_string(kept) + " kept";
+  }
+#endif
+  const std::string of = " (" + name + ", " + std::to_string(points.size()) + " points)";
+  print_block("voxel downsampling, 4 mm" + of, voxel);
+  print_block("statistical outlier removal, k = 10, 3 std" + of, outliers);
+}
+
+// RMS distance, over the view's points, between where a transform and the truth put them: the final error.
+double rms_error_mm(const Points& view, const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth) {
+  double sum = 0.0;
+  for (const auto& p : view) {
+    const Vec3 a = estimate.topLeftCorner<3, 3>() * p + estimate.topRightCorner<3, 1>();
+    const Vec3 b = truth.topLeftCorner<3, 3>() * p + truth.topRightCorner<3, 1>();
+    sum += (a - b).squaredNorm();
+  }
+  return 1000.0 * std::sqrt(sum / static_cast<double>(view.size()));
+}
+
+// ICP of a partial view onto a held tool's model from 3 degrees and 5 mm off, preparation of the target
+// (normals, index) included, as each library needs it. The final error is against the true pose.
+void icp(const Points& model, const Points& view, const Eigen::Matrix4d& truth, const Eigen::Matrix4d& start) {
+  std::vector<Row> point_to_plane, point_to_point;
+  const auto error_text = [&](const Eigen::Matrix4d& estimate) {
+    char text[64];
+    std::snprintf(text, sizeof text, "final error %.2f mm RMS (start %.2f)", rms_error_mm(view, estimate, truth),
+                  rms_error_mm(view, start, truth));
+    return std::string(text);
+  };
+  Eigen::Matrix4d estimate = start;
+  point_to_plane.push_back({"toolinc", median_ms([&] {
+                              const IcpTarget target(model, kNeighbours);
+                              estimate = align_point_to_plane(view, target, start).target_from_source;
+                            }),
+                            ""});
+  point_to_plane.back().result = error_text(estimate);
+  point_to_point.push_back({"toolinc", point_to_plane.back().ms, "point-to-plane: " + point_to_plane.back().result});
+#ifdef TOOLINC_WITH_PCL
+  {
+    const auto with_normals = [](const Points& points, const pcl::PointCloud<pcl::Normal>* normals) {
+      pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        pcl::PointNormal p;
+        p.x = static_cast<float>(points[i].x());
+        p.y = static_cast<float>(points[i].y());
+        p.z = static_cast<float>(points[i].z());
+        p.normal_x = normals ? (*normals)[i].normal_x : 0.0f;
+        p.normal_y = normals ? (*normals)[i].normal_y : 0.0f;
+        p.normal_z = normals ? (*normals)[i].normal_z : 0.0f;
+        cloud->push_back(p);
+      }
+      return cloud;
+    };
+    const auto source = with_normals(view, nullptr);
+    // Run to convergence as toolinc does: stopped by 50 iterations or a negligible step.
+    const auto run = [&](auto& solver, const auto& source_cloud, const auto& target_cloud) {
+      solver.setInputSource(source_cloud);
+      solver.setInputTarget(target_cloud);
+      solver.setMaxCorrespondenceDistance(kCorrespondence);
+      solver.setMaximumIterations(50);
+      solver.setTransformationEpsilon(1e-10);
+      solver.setEuclideanFitnessEpsilon(1e-12);
+      typename std::remove_reference_t<decltype(*source_cloud)> aligned;
+      solver.align(aligned, Eigen::Matrix4f(start.cast<float>()));
+      estimate = solver.getFinalTransformation().template cast<double>();
+    };
+    point_to_plane.push_back({"PCL", median_ms([&] {
+                                const auto target_points = to_pcl(model);
+                                pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> normal_estimation;
+                                normal_estimation.setInputCloud(target_points);
+                                normal_estimation.setKSearch(kNeighbours);
+                                pcl::PointCloud<pcl::Normal> normals;
+                                normal_estimation.compute(normals);
+                                pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> solver;
+                                run(solver, source, with_normals(model, &normals));
+                              }),
+                              ""});
+    point_to_plane.back().result = error_text(estimate);
+    const auto source_xyz = to_pcl(view), target_xyz = to_pcl(model);
+    point_to_point.push_back({"PCL", median_ms([&] {
+                                pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> solver;
+                                run(solver, source_xyz, target_xyz);
+                              }),
+                              ""});
+    point_to_point.back().result = error_text(estimate);
+  }
+#endif
+#ifdef TOOLINC_WITH_OPEN3D
+  {
+    namespace reg = open3d::pipelines::registration;
+    const auto source = to_open3d(view);
+    const reg::ICPConvergenceCriteria until(1e-8, 1e-8, 50);
+    point_to_plane.push_back({"Open3D", median_ms([&] {
+                                auto target = to_open3d(model);
+                                target.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(kNeighbours));
+                                estimate = reg::RegistrationICP(source, target, kCorrespondence, start,
+                                                                reg::TransformationEstimationPointToPlane(), until)
+                                               .transformation_;
+                              }),
+                              ""});
+    point_to_plane.back().result = error_text(estimate);
+    const auto target = to_open3d(model);
+    point_to_point.push_back({"Open3D", median_ms([&] {
+                                estimate = reg::RegistrationICP(source, target, kCorrespondence, start,
+                                                                reg::TransformationEstimationPointToPoint(), until)
+                                               .transformation_;
+                              }),
+                              ""});
+    point_to_point.back().result = error_text(estimate);
+  }
+#endif
+  const std::string of =
+      " (" + std::to_string(view.size()) + "-point view onto a " + std::to_string(model.size()) + "-point model)";
+  print_block("ICP point-to-plane, target preparation included" + of, point_to_plane);
+  print_block("ICP point-to-point" + of, point_to_point);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc > 1) min_time_ms = 1000.0 * std::atof(argv[1]);
+#ifdef _OPENMP
+  omp_set_num_threads(1);
+#endif
+  std::printf("toolinc against its peers, one core; median times; x = ratio to the fastest peer\n");
+  // A held tool's model, about 10k points, and one partial view of it, about 5k points (as bench_align_pose).
+  const PartialViewCase held = make_partial_view_case(ToolFamily::hoe, 7);
+  ToolShape shape = held.shape;
+  Points model;
+  for (int i = 0; i < 4; ++i) {
+    model = generate_tool(shape, 1).points;
+    shape.spacing *= std::sqrt(static_cast<double>(model.size()) / 10000.0);
+  }
+  PartialViewConfig view_config;
+  Points view;
+  for (int i = 0; i < 4; ++i) {
+    view = make_partial_view_case(ToolFamily::hoe, 7, any_grasp_range(), view_config).view;
+    view_config.spacing *= std::sqrt(static_cast<double>(view.size()) / 5000.0);
+  }
+  // A session of the robot's stereo: one cropped view (a real-size view) and the merged model.
+  const SimulatedSession session = simulate_session(family_session(ToolFamily::hoe, 7));
+  std::vector<PointCloud> views;
+  for (std::size_t v = 0; v < session.views.size(); ++v) {
+    try {
+      views.push_back(crop_view(session.info, session.info.views[v], session.views[v], matched_stereo_crop()).cloud);
+    } catch (const MethodError&) {
+    }
+  }
+  const Points merged = merge_views(views).model.points;
+
+  neighbour_search("held tool", model);
+  neighbour_search("merged session model", merged);
+  filters("cropped view", views.front().points);
+  filters("held tool", model);
+  Eigen::Matrix4d error = Eigen::Matrix4d::Identity();
+  error.topLeftCorner<3, 3>() = Eigen::AngleAxisd(3.0 * M_PI / 180.0, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  error.topRightCorner<3, 1>() = Vec3(0.003, -0.003, 0.0025);
+  const Eigen::Matrix4d truth = held.grasp.inverse();  // model_from_view
+  icp(model, view, truth, error * truth);
+  return 0;
+}
