@@ -263,7 +263,8 @@ a five-view session (0 ideal, 1 SGBM, 2 LIBELAS-like stereo).
 installed (`apt-get install libnanoflann-dev libopen3d-dev`; benchmark-only, never needed by the library),
 in one process, on the same clouds, on one core: median wall time, its ratio to the fastest peer, and what
 the block produced, so that times compare at equal results. toolinc has no point-to-point ICP; its
-point-to-plane row stands beside the peers' point-to-point.
+point-to-plane row stands beside the peers' point-to-point. Then the scaling of the whole jobs from 3k to
+1M points (the same surfaces sampled more densely), with the exponent of a power law fitted from 10k up.
 
 {peers_output()}
 """, end="")

@@ -5,6 +5,8 @@
 //
 //   build/bench/bench_peers [SECONDS]   (each block repeated for about SECONDS, 0.5 by default; the peers'
 //                                        OpenMP is held to one thread by the program itself)
+#include <sys/resource.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -12,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <numeric>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -19,6 +22,10 @@
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/frame/tool_frame.hpp"
+#include "toolinc/frame/tooltip.hpp"
+#include "toolinc/registration/align_pose.hpp"
 #include "toolinc/registration/icp.hpp"
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
@@ -398,6 +405,66 @@ void icp(const Points& model, const Points& view, const Eigen::Matrix4d& truth, 
   print_block("ICP point-to-point" + of, point_to_point);
 }
 
+// n points drawn from a cloud's points, each moved by Gaussian noise of 1 mm per coordinate: the same
+// surface, sampled n times.
+Points densified(const Points& points, std::size_t n, Rng& rng) {
+  Points out(n);
+  for (auto& p : out)
+    p = points[rng.index(static_cast<std::uint32_t>(points.size()))] +
+        0.001 * Vec3(rng.gaussian(), rng.gaussian(), rng.gaussian());
+  return out;
+}
+
+// Peak resident memory of the process so far, MB.
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+// Time of estimate-frame + find-tooltip, merge-views of five views and align-pose from 3k to 1M points,
+// and the exponent of a power law fitted to the times from 10k points up (below, fixed costs dominate).
+void scaling(const SessionSimulatorConfig& scene) {
+  Rng rng(5);
+  std::vector<Points> views;
+  for (const auto& wrist : scene.poses) {
+    PartialViewConfig config;
+    config.wrist_deg = wrist;
+    views.push_back(render_partial_view(scene, config, rng));
+  }
+  const Points& held = views.front();
+  const PoseModel model(generate_tool(scene.shape, 1).points);
+  std::printf("\nscaling (one core; the process's peak memory after each size)\n");
+  std::printf("  %9s  %14s  %16s  %14s  %8s\n", "points", "frame+tooltip", "merge 5 views", "align-pose", "peak MB");
+  std::vector<double> log_n, log_time[3];
+  for (const std::size_t n : {3000, 10000, 30000, 100000, 300000, 1000000}) {
+    const Points cloud = densified(held, n, rng);
+    std::vector<PointCloud> parts;
+    for (const auto& view : views) parts.push_back({densified(view, n / views.size(), rng), {}, {}, "hand"});
+    const double times[3] = {
+        median_ms([&] { find_tooltip(cloud, estimate_tool_frame(cloud)); }),
+        median_ms([&] { merge_views(parts); }),
+        median_ms([&] { align_pose(model, cloud); }),
+    };
+    std::printf("  %9zu  %11.1f ms  %13.1f ms  %11.1f ms  %8.0f\n", n, times[0], times[1], times[2], peak_rss_mb());
+    if (n < 10000) continue;
+    log_n.push_back(std::log(static_cast<double>(n)));
+    for (int j = 0; j < 3; ++j) log_time[j].push_back(std::log(times[j]));
+  }
+  const auto slope = [&](const std::vector<double>& y) {
+    const double mx = std::accumulate(log_n.begin(), log_n.end(), 0.0) / static_cast<double>(log_n.size());
+    const double my = std::accumulate(y.begin(), y.end(), 0.0) / static_cast<double>(y.size());
+    double sxy = 0.0, sxx = 0.0;
+    for (std::size_t i = 0; i < y.size(); ++i) {
+      sxy += (log_n[i] - mx) * (y[i] - my);
+      sxx += (log_n[i] - mx) * (log_n[i] - mx);
+    }
+    return sxy / sxx;
+  };
+  std::printf("  %9s  %14.2f  %16.2f  %14.2f   (time ~ points^exponent, 10k-1M)\n", "exponent", slope(log_time[0]),
+              slope(log_time[1]), slope(log_time[2]));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -440,5 +507,6 @@ int main(int argc, char** argv) {
   error.topRightCorner<3, 1>() = Vec3(0.003, -0.003, 0.0025);
   const Eigen::Matrix4d truth = held.grasp.inverse();  // model_from_view
   icp(model, view, truth, error * truth);
+  scaling(family_session(ToolFamily::hoe, 7));
   return 0;
 }
