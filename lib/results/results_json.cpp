@@ -270,21 +270,13 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
       {"alternatives", alternatives},
       {"settings", settings},
       {"diagnostics",
-       {{"rule", to_string(config.rule)},
-        {"tied", tooltip.tied},
+       {{"tied", tooltip.tied},
         {"noise_m", tooltip.noise_m},
-        {"ambiguity_distance_m", config.ambiguity_distance},
-        {"effector_weight", config.effector_weight},
-        {"tie_tolerance", config.tie_tolerance},
         {"surface_point", to_json(tooltip.surface_point)},
         {"score", tooltip.score},
         {"candidates", tooltip.candidates},
         {"rejected_sparse", tooltip.rejected_sparse},
-        {"density", {{"radius", config.density_radius}, {"min_neighbors", config.min_neighbors}}},
-        {"edge",
-         {{"retreat_m", tooltip.edge_retreat_m},
-          {"radius", config.tip_edge_radius},
-          {"fringe_depth", config.fringe_depth}}}}},
+        {"edge_retreat_m", tooltip.edge_retreat_m}}},
   };
 }
 

@@ -163,7 +163,7 @@ TEST(FrameCli, ConfigSectionsLaterWinTopLevelLast) {
   write_text(dir / "c.json", R"({"min-neighbors": 1000, "find-tooltip": {"min-neighbors": 5}})");
   auto run = run_tool("find-tooltip", (dir / "hoe.ply").string() + " -c " + (dir / "c.json").string() + " -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_EQ(Json::parse(run.out)["diagnostics"]["density"]["min_neighbors"], 5);
+  EXPECT_EQ(Json::parse(run.out)["settings"]["min-neighbors"], 5);
   write_text(dir / "d.json", R"({"estimate-frame": {"hand-radius": 0.07}, "find-tooltip": {"hand-radius": 0.065}})");
   run = run_tool("find-tooltip", (dir / "hoe.ply").string() + " -c " + (dir / "d.json").string() + " -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;

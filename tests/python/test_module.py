@@ -48,13 +48,13 @@ def test_config_file_as_with_c(tool, tmp_path):
                                   "align-pose": {"roll-step-deg": 10}}))
     expected = cli_json(tool, "find-tooltip", cloud, "-c", config)
     tip = toolinc.find_tooltip(toolinc.read_cloud(str(cloud)), config=str(config))
-    assert tip["diagnostics"]["rule"] == "weighted" and tip["diagnostics"]["effector_weight"] == 0.6
+    assert tip["settings"]["rule"] == "weighted" and tip["settings"]["effector-weight"] == 0.6
     assert np.max(np.abs(tip["position"] - np.array(expected["position"]))) <= 1e-9
     # The keywords win over the file, as the command line does.
     expected = cli_json(tool, "find-tooltip", cloud, "-c", config, "--effector-weight", "0.9")
     tip = toolinc.find_tooltip(toolinc.read_cloud(str(cloud)), config=str(config), effector_weight=0.9)
     assert np.max(np.abs(tip["position"] - np.array(expected["position"]))) <= 1e-9
-    assert tip["diagnostics"]["effector_weight"] == 0.9
+    assert tip["settings"]["effector-weight"] == 0.9
 
 
 def test_given_frame_and_plain_arrays(tool):
