@@ -1,10 +1,13 @@
-// Direct tests of building blocks otherwise exercised only through pipelines (issue 19): the kd-tree
-// against brute force, the cylinder fit, point-to-plane ICP, and IcpTarget's copy safety.
+// Direct tests of building blocks otherwise exercised only through pipelines: the kd-tree against brute
+// force, the voxel grid against a plain map, the cylinder fit, point-to-plane ICP, and IcpTarget's copy
+// safety.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <random>
 #include <type_traits>
 
@@ -39,6 +42,44 @@ std::vector<Neighbor> brute_sorted(const Points& points, const Vec3& q) {
     return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
   });
   return all;
+}
+
+// The voxel grid's definition, plainly: the mean of each occupied voxel's points, in the voxels' (x, y, z)
+// order, each mean summed in the points' input order.
+Points voxel_means_by_map(const Points& points, double voxel_size) {
+  std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> voxels;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d cell = (points[i] / voxel_size).array().floor();
+    voxels[{static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
+            static_cast<std::int64_t>(cell.z())}]
+        .push_back(i);
+  }
+  Points means;
+  for (const auto& [cell, members] : voxels) {
+    Vec3 sum = Vec3::Zero();
+    for (const auto i : members) sum += points[i];
+    means.push_back(sum / static_cast<double>(members.size()));
+  }
+  return means;
+}
+
+// Both the packed 64-bit keys (a tool-sized cloud) and the three-key path (a cloud spanning more than 2^21
+// voxels along an axis) must give the plain definition's points, bit for bit, negative cells included.
+TEST(VoxelDownsample, EveryVoxelsMeanInVoxelOrder) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  Points tool;
+  for (int i = 0; i < 3000; ++i) tool.emplace_back(u(random), u(random), u(random));
+  Points wide = tool;
+  wide.emplace_back(9000.0, 0.0, 0.0);  // 9 km away: 2.25 million 4 mm voxels along x
+  wide.emplace_back(9000.001, 0.0, 0.0);
+  for (const Points* points : {&tool, &wide}) {
+    const Points expected = voxel_means_by_map(*points, 0.004);
+    const Points got = voxel_downsample(*points, 0.004);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], expected[i]) << i;
+  }
+  EXPECT_TRUE(voxel_downsample({}, 0.004).empty());
 }
 
 TEST(KdTree, MatchesBruteForceWithTies) {
