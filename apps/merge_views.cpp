@@ -30,14 +30,15 @@ int main(int argc, char** argv) {
     try {
       merged = toolinc::merge_views(views, config);
     } catch (const toolinc::MethodError& e) {
-      if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, {}, e.what()));
+      if (!report_file.empty())
+        toolinc::write_json(report_file, toolinc::merge_report_json(inputs, {}, config, e.what()));
       throw;
     }
     for (std::size_t v = 0; v < merged.views.size(); ++v)
       spdlog::info("{}: {} ({})", inputs[v], merged.views[v].accepted ? "accepted" : "REJECTED",
                    merged.views[v].reason);
     toolinc::write_ply(command.output(), merged.model, {ascii, command.command_line()});
-    if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, merged, ""));
+    if (!report_file.empty()) toolinc::write_json(report_file, toolinc::merge_report_json(inputs, merged, config, ""));
     spdlog::info("{} points -> {}", merged.model.size(), command.output());
   });
 }

@@ -260,7 +260,8 @@ py::tuple merge_views_py(const py::list& views, const py::object& config, const 
     names.push_back("view " + std::to_string(names.size()));
   }
   const MergeResult merged = merge_views(clouds, merge_config);
-  return py::make_tuple(cloud_to_python(merged.model), typed<MergeReportResult>(merge_report_json(names, merged, "")));
+  return py::make_tuple(cloud_to_python(merged.model),
+                        typed<MergeReportResult>(merge_report_json(names, merged, merge_config, "")));
 }
 
 py::object align_pose_py(const py::handle& model, const py::handle& view, const py::object& config,

@@ -3,11 +3,11 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <Eigen/LU>
-#include <variant>
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/frame/parameters.hpp"
+#include "toolinc/registration/parameters.hpp"
 
 namespace toolinc {
 
@@ -28,7 +28,8 @@ Json planes_json(const std::vector<SymmetryCandidate>& planes) {
 template <class Config>
 Json settings_json(const Config& config, const std::vector<Parameter<Config>>& table) {
   Json json = Json::object();
-  for (const auto& p : table) std::visit([&](auto member) { json[p.name] = config.*member; }, p.field);
+  Config values = config;  // visit_value hands out references, so it needs a config of its own
+  for (const auto& p : table) visit_value(p, values, [&](const auto& value) { json[p.name] = value; });
   return json;
 }
 
@@ -186,31 +187,23 @@ Json tool_pose_json(const PoseResult& r, const AlignPoseConfig& config, const st
       {"fitness",
        {{"inlier_ratio", r.best.inlier_ratio},
         {"inlier_rmse_m", r.best.inlier_rmse},
-        {"inlier_distance_m", config.icp.inlier_distance},
-        {"head_weighted_score", r.best.score},
-        {"score_sigma_m", config.score_sigma}}},
+        {"head_weighted_score", r.best.score}}},
       {"feasible", f.feasible},
       {"feasibility",
        {{"translation_m", to_json(f.translation)},
         {"tilt_deg", f.tilt_deg},
         {"roll_deg", f.roll_deg},
         {"about_handle_deg", f.about_handle_deg},
-        {"reason", f.reason},
-        {"limits",
-         {{"max_translation_m", config.max_translation},
-          {"max_tilt_deg", config.max_tilt_deg},
-          {"max_roll_deg", config.max_roll_deg},
-          {"max_about_handle_deg", config.max_about_handle_deg}}}}},
+        {"reason", f.reason}}},
       {"iterations", r.best.iterations},
       {"converged", r.best.converged},
       {"ambiguous", r.ambiguous},
       {"candidates", candidates},
+      {"settings", settings_json(config, align_pose_parameters())},
       {"diagnostics",
        {{"view_points_input", r.view_points_input},
         {"view_points_used", r.view_points_used},
-        {"hypotheses", r.hypotheses},
-        {"roll_step_deg", config.roll_step_deg},
-        {"hand_radius_m", config.hand_radius}}},
+        {"hypotheses", r.hypotheses}}},
       {"timing_ms",
        {{"model", model_ms},
         {"view", r.view_ms},
@@ -287,7 +280,8 @@ Vec3 tooltip_position_from_json(const Json& json, const std::string& path) {
   return vector3_field(json, "position", path);
 }
 
-Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const std::string& failure) {
+Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const MergeConfig& config,
+                       const std::string& failure) {
   Json views = Json::array();
   for (std::size_t v = 0; v < merged.views.size(); ++v) {
     const ViewMerge& m = merged.views[v];
@@ -309,7 +303,8 @@ Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult
           {"failure", failure},
           {"views", views},
           {"hand_from_reference", to_json(merged.hand_from_reference)},
-          {"model_points", merged.model.size()}};
+          {"model_points", merged.model.size()},
+          {"settings", settings_json(config, merge_parameters())}};
 }
 
 }  // namespace toolinc

@@ -16,6 +16,7 @@
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/registration/align_pose.hpp"
+#include "toolinc/registration/parameters.hpp"
 #include "toolinc/results/results_json.hpp"
 #include "toolinc/synth/partial_view.hpp"
 
@@ -178,7 +179,7 @@ TEST(AlignPoseCli, WritesThePoseTheOrientedModelAndTheTooltip) {
   const auto run =
       run_tool("align-pose", "--model " + k.model.string() + " --view " + k.view.string() + " -o " +
                                  (k.dir / "pose.json").string() + " --oriented " + (k.dir / "oriented.ply").string() +
-                                 " --tooltip " + (k.dir / "tip.json").string() + " -q");
+                                 " --tooltip " + (k.dir / "tip.json").string() + " --max-translation 0.12 -q");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(run.err.empty()) << run.err;
   const Json pose_file = read_json((k.dir / "pose.json").string());
@@ -191,7 +192,10 @@ TEST(AlignPoseCli, WritesThePoseTheOrientedModelAndTheTooltip) {
   EXPECT_TRUE(pose_errors(k.c, m).within(3.0, 0.005, 0.010));
   EXPECT_GT(pose_file["fitness"]["inlier_ratio"].get<double>(), 0.9);
   EXPECT_LT(pose_file["fitness"]["inlier_rmse_m"].get<double>(), 0.003);
-  EXPECT_EQ(pose_file["feasibility"]["limits"]["max_translation_m"], 0.10);
+  // Every setting the pose was found with, the one given on the command line included.
+  for (const auto& p : align_pose_parameters()) EXPECT_TRUE(pose_file["settings"].contains(p.name)) << p.name;
+  EXPECT_EQ(pose_file["settings"].size(), align_pose_parameters().size());
+  EXPECT_EQ(pose_file["settings"]["max-translation"], 0.12);
   EXPECT_GT(pose_file["iterations"].get<int>(), 0);
   EXPECT_TRUE(pose_file["timing_ms"].contains("total"));
 

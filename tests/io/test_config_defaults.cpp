@@ -17,6 +17,7 @@
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/registration/parameters.hpp"
 #include "toolinc/synth/partial_view.hpp"
 
 namespace toolinc {
@@ -153,7 +154,7 @@ TEST(ConfigDefaults, CropCloudShippedConfigHoldsTheDefaults) {
 namespace toolinc {
 namespace {
 
-// The parameter tables are the one source of the frame's and the tooltip's parameters: the shipped
+// The parameter tables are the one source of every algorithm's parameters: the shipped
 // config's sections hold exactly their parameters, in their order, at their defaults, and the docs'
 // parameter table has a row for each, its default first.
 template <class Config>
@@ -186,6 +187,15 @@ TEST(ConfigDefaults, FrameAndTooltipParametersFollowTheirTables) {
   const std::string docs = slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md");
   expect_documented(docs, tool_frame_parameters());
   expect_documented(docs, tooltip_parameters());
+}
+
+TEST(ConfigDefaults, AlignPoseAndMergeParametersFollowTheirTables) {
+  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  expect_section_is_the_table(config.at("align-pose"), align_pose_parameters(), 0);
+  expect_section_is_the_table(config.at("merge-views"), merge_parameters(), 0);
+  const std::string docs = slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md");
+  expect_documented(docs, align_pose_parameters());
+  expect_documented(docs, merge_parameters());
 }
 
 }  // namespace

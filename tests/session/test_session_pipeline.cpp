@@ -316,14 +316,17 @@ TEST(SessionPipeline, CommandsFailCleanlyOnBadInput) {
     std::ofstream(version / "session.json") << text;
   }
   expect_failure("crop-cloud", version.string() + " -o " + out.string(), 2, "version", out);
-  // merge-views: a reference view of 200 points is too few (exit 3), the report says why.
+  // merge-views: a reference view of 200 points is too few (exit 3), the report says why, with the settings.
   PointCloud few;
   for (int i = 0; i < 200; ++i) few.points.emplace_back(0.1 + 0.001 * i, -0.15, 0.0);
   write_ply((dir / "few.ply").string(), few);
   expect_failure("merge-views",
-                 (dir / "few.ply").string() + " -o " + out.string() + " --report " + (dir / "r.json").string(), 3,
-                 "200 points", out);
-  EXPECT_FALSE(read_json((dir / "r.json").string())["ok"].get<bool>());
+                 (dir / "few.ply").string() + " -o " + out.string() + " --report " + (dir / "r.json").string() +
+                     " --min-points 250",
+                 3, "200 points", out);
+  const Json report = read_json((dir / "r.json").string());
+  EXPECT_FALSE(report["ok"].get<bool>());
+  EXPECT_EQ(report["settings"]["min-points"], 250);
 }
 
 TEST(SessionPipeline, MakefileRunsEveryStepOnEverySession) {

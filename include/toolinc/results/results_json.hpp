@@ -29,7 +29,8 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
 
 // The merge report: per input view accepted or rejected, its correction and why; `failure` non-empty
 // when the merge as a whole failed (then "ok" is false).
-Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const std::string& failure);
+Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult& merged, const MergeConfig& config,
+                       const std::string& failure);
 // Reads the "position" of a tooltip file.
 Vec3 read_tooltip_position(const std::string& path);
 Vec3 tooltip_position_from_json(const Json& json, const std::string& path);
