@@ -16,8 +16,8 @@ int main(int argc, char** argv) {
     const auto cloud = toolinc::load_cloud(input);
     const auto frame = toolinc::estimate_tool_frame(cloud.points, config, cloud.viewpoints);
     spdlog::info("handle axis refined by {:.1f} deg from the major axis; symmetry score {:.3f}; {}",
-                 frame.handle_refinement_deg, frame.symmetry_score,
-                 frame.salient_effector ? "salient effector" : "no salient effector");
+                 frame.diagnostics.handle_refinement_deg, frame.symmetry_score,
+                 frame.diagnostics.salient_effector ? "salient effector" : "no salient effector");
     toolinc::write_json(command.output(), toolinc::tool_frame_json(frame, config));
   });
 }

@@ -414,11 +414,11 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
                                                          config.isolated_radius, config.isolated_min_neighbors);
   const PrincipalAxes principal = principal_axes(cloud);
   check_not_degenerate(input, outside, cloud, principal, config);
-  frame.points_input = static_cast<int>(input.size());
-  frame.points_outside_hand = static_cast<int>(outside.size());
-  frame.points_used = static_cast<int>(cloud.size());
-  frame.centroid = principal.centroid;
-  frame.principal = principal.axes;
+  frame.diagnostics.points_input = static_cast<int>(input.size());
+  frame.diagnostics.points_outside_hand = static_cast<int>(outside.size());
+  frame.diagnostics.points_used = static_cast<int>(cloud.size());
+  frame.diagnostics.centroid = principal.centroid;
+  frame.diagnostics.principal = principal.axes;
   frame.eigenvalues = principal.eigenvalues;
 
   // Handle axis (Y), signed towards the hand at the origin. A stick (its effector side all within
@@ -445,12 +445,13 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   }
   const Vec3 y_axis = handle.axis.normalized();
   frame.handle_point = handle.point;
-  frame.handle_points = handle.points;
+  frame.diagnostics.handle_points = handle.points;
   frame.handle_radius = handle.radius;
-  frame.handle_rms = handle.rms;
-  frame.handle_cylinder = handle.cylinder;
-  frame.handle_refinement_deg = std::acos(std::min(1.0, std::abs(y_axis.dot(principal.axes.col(0))))) / kDeg;
-  frame.handle_sign_rule = "towards the hand: the hand origin lies on the +Y side of the handle";
+  frame.diagnostics.handle_rms = handle.rms;
+  frame.diagnostics.handle_cylinder = handle.cylinder;
+  frame.diagnostics.handle_refinement_deg =
+      std::acos(std::min(1.0, std::abs(y_axis.dot(principal.axes.col(0))))) / kDeg;
+  frame.diagnostics.handle_sign_rule = "towards the hand: the hand origin lies on the +Y side of the handle";
 
   // Symmetry plane: it contains the handle axis, so sweep its normal about Y and refine the best
   // angles. The plane across the handle is scored for the record only.
@@ -473,8 +474,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
         radial_distance(handle_line, cloud[i]) >= config.head_radius_factor * handle.radius)
       head.push_back(i);
   // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
-  frame.head_extent = effector_extent(cloud, principal.centroid, handle_line, config.salience_quantile);
-  frame.stick = frame.head_extent < config.stick_width;
+  frame.diagnostics.head_extent = effector_extent(cloud, principal.centroid, handle_line, config.salience_quantile);
+  frame.stick = frame.diagnostics.head_extent < config.stick_width;
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                               config.symmetry_tolerance, config.symmetry_match_weight,
                               viewpoints.empty() ? nullptr : &free_space, config.symmetry_normal_neighbors,
@@ -482,15 +483,15 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const auto score_at = [&](double angle) { return scorer.score(normal_at(angle), centre); };
   const double step = config.symmetry_step_deg * kDeg;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
-    frame.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
+    frame.diagnostics.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
   // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
   // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
   // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across
   // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
   // effector reaches farthest, since the effector axis is the head's forward extent.
-  const auto& sweep = frame.symmetry_candidates;
+  const auto& sweep = frame.diagnostics.symmetry_candidates;
   const std::optional<Vec3> blade = blade_across(cloud, head, centre, y_axis, u, v, config);
-  frame.head_is_blade = blade.has_value();
+  frame.diagnostics.head_is_blade = blade.has_value();
   // A front that is a corner, not a face, loses to one that is.
   double best_angle = 0.0;
   std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
@@ -556,8 +557,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   }
   std::sort(frame.rival_planes.begin(), frame.rival_planes.end(),
             [](const SymmetryCandidate& a, const SymmetryCandidate& b) { return a.score < b.score; });
-  frame.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
-  frame.across_handle_score = scorer.score(y_axis, principal.centroid);
+  frame.diagnostics.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
+  frame.diagnostics.across_handle_score = scorer.score(y_axis, principal.centroid);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();
@@ -566,26 +567,27 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     x_axis = -x_axis;
     std::swap(reach.positive, reach.negative);
   }
-  frame.effector_reach_positive = reach.positive;
-  frame.effector_reach_negative = reach.negative;
-  frame.salient_effector = reach.positive - reach.negative >= config.salience_min &&
-                           reach.positive >= config.salience_ratio * std::max(reach.negative, 0.0);
+  frame.diagnostics.effector_reach_positive = reach.positive;
+  frame.diagnostics.effector_reach_negative = reach.negative;
+  frame.diagnostics.salient_effector = reach.positive - reach.negative >= config.salience_min &&
+                                       reach.positive >= config.salience_ratio * std::max(reach.negative, 0.0);
   // Without a salient side, the reaches' extremes are where smear lies, on both sides alike; the head's
   // mean point, which a tenth of smeared points moves far less, tells the side its material is on. The
   // side stays doubtful.
   const bool has_head = static_cast<int>(head.size()) >= config.min_head_points;
-  if (!frame.salient_effector && has_head) {
+  if (!frame.diagnostics.salient_effector && has_head) {
     double mean_x = 0.0;
     for (auto i : head) mean_x += (cloud[i] - centre).dot(x_axis) / static_cast<double>(head.size());
     if (mean_x < 0) {
       x_axis = -x_axis;
-      std::swap(frame.effector_reach_positive, frame.effector_reach_negative);
+      std::swap(frame.diagnostics.effector_reach_positive, frame.diagnostics.effector_reach_negative);
     }
   }
-  frame.effector_sign_rule = frame.salient_effector
-                                 ? "salient side: the effector reaches farther along +X than along -X"
-                                 : "no salient effector: +X towards the side the head's points lie on on average, "
-                                   "sign doubtful";
+  frame.diagnostics.effector_sign_rule =
+      frame.diagnostics.salient_effector
+          ? "salient side: the effector reaches farther along +X than along -X"
+          : "no salient effector: +X towards the side the head's points lie on on average, "
+            "sign doubtful";
   // A blade or a scoop (a head thinnest along the effector axis, reaching less far along it than it is
   // wide) works with its concave side: when its edges curl to one side, that side is the effector's,
   // whichever reaches farther (a scoop's belly may bulge behind the handle's axis).
@@ -594,25 +596,25 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   bool curled = false;
   if (thin_along_x) {
     const Curl curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
-    if (std::max(reach.positive, reach.negative) < curl.half_width) frame.head_curl = curl.rise;
-    if (std::abs(frame.head_curl) >= config.head_curl_min) {
+    if (std::max(reach.positive, reach.negative) < curl.half_width) frame.diagnostics.head_curl = curl.rise;
+    if (std::abs(frame.diagnostics.head_curl) >= config.head_curl_min) {
       curled = true;
-      if (frame.head_curl < 0) {
+      if (frame.diagnostics.head_curl < 0) {
         x_axis = -x_axis;
-        std::swap(frame.effector_reach_positive, frame.effector_reach_negative);
-        frame.head_curl = -frame.head_curl;
+        std::swap(frame.diagnostics.effector_reach_positive, frame.diagnostics.effector_reach_negative);
+        frame.diagnostics.head_curl = -frame.diagnostics.head_curl;
       }
-      frame.effector_sign_rule =
+      frame.diagnostics.effector_sign_rule =
           "the head is a blade or scoop facing +-X whose edges curl towards +X: it works "
           "with its concave side";
     }
   }
 
-  frame.effector_side_clear = frame.salient_effector || curled;
+  frame.effector_side_clear = frame.diagnostics.salient_effector || curled;
   frame.axes.col(0) = x_axis;
   frame.axes.col(1) = y_axis;
   frame.axes.col(2) = x_axis.cross(y_axis);  // right-handed by construction
-  frame.hand_to_handle = radial_distance(handle_line, Vec3::Zero());
+  frame.diagnostics.hand_to_handle = radial_distance(handle_line, Vec3::Zero());
 
   // The head's kind, once: a blade (curled: a scoop) continues the handle and works with its far end; a
   // plate thinnest along X that is no blade lies across the handle (a rake's comb, a hoe's blade).
@@ -622,8 +624,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
       along.push_back((cloud[i] - centre).dot(y_axis));
       across.push_back((cloud[i] - centre).dot(frame.axes.col(2)));
     }
-    frame.head_length = quantile(along, 0.95) - quantile(along, 0.05);
-    frame.head_width = quantile(across, 0.95) - quantile(across, 0.05);
+    frame.diagnostics.head_length = quantile(along, 0.95) - quantile(along, 0.05);
+    frame.diagnostics.head_width = quantile(across, 0.95) - quantile(across, 0.05);
   }
   if (frame.stick) {
     frame.head_kind = HeadKind::none;
@@ -637,20 +639,21 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // sides reach differently, but not by enough to be salient, may have its side reversed (a tool whose
   // sides reach alike within salience-min is symmetric: either side is right).
   frame.confidence.check(
-      1.0 - frame.hand_to_handle / config.grasp_reach,
+      1.0 - frame.diagnostics.hand_to_handle / config.grasp_reach,
       fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
                   "it is not what the hand holds",
-                  1000 * frame.hand_to_handle, 1000 * config.grasp_reach));
+                  1000 * frame.diagnostics.hand_to_handle, 1000 * config.grasp_reach));
   frame.confidence.check(1.0 - frame.handle_radius / config.grasp_max_radius,
                          fmt::format("the handle's fitted radius is {:.0f} mm, beyond grasp-max-radius ({:.0f} mm): "
                                      "thicker than the hand holds",
                                      1000 * frame.handle_radius, 1000 * config.grasp_max_radius));
-  const double reach_difference = frame.effector_reach_positive - frame.effector_reach_negative;
-  if (!frame.stick && !curled && !frame.salient_effector && std::abs(reach_difference) >= config.salience_min)
-    frame.confidence.check(0.0,
-                           fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "
-                                       "to tell its side, too different for a symmetric head",
-                                       1000 * frame.effector_reach_positive, 1000 * frame.effector_reach_negative));
+  const double reach_difference = frame.diagnostics.effector_reach_positive - frame.diagnostics.effector_reach_negative;
+  if (!frame.stick && !curled && !frame.diagnostics.salient_effector &&
+      std::abs(reach_difference) >= config.salience_min)
+    frame.confidence.check(0.0, fmt::format("the effector reaches {:.0f} mm along +X and {:.0f} mm along -X: too alike "
+                                            "to tell its side, too different for a symmetric head",
+                                            1000 * frame.diagnostics.effector_reach_positive,
+                                            1000 * frame.diagnostics.effector_reach_negative));
   // The centroid projected onto the symmetry plane.
   frame.origin = principal.centroid - (principal.centroid - (centre + offset * z_normal)).dot(z_normal) * z_normal;
   return frame;

@@ -88,7 +88,7 @@ TEST(ToolFrameAccuracy, RealShapesManyGrasps) {
         const ToolFrame frame = estimate_tool_frame(held.observed);
         ++blades;
         blade_planes_right +=
-            frame.head_is_blade &&
+            frame.diagnostics.head_is_blade &&
             std::abs(frame.symmetry_axis().dot(held.grasp.topLeftCorner<3, 3>().col(2))) >= std::cos(10 * M_PI / 180);
       }
     }
@@ -197,7 +197,8 @@ TEST(ToolFrameAccuracy, FourfoldTruthHasFourTips) {
 TEST(ToolFrameAccuracy, SalientEffectorIsDetectedWhereItExists) {
   for (ToolFamily family : all_families()) {
     const auto held = make_held_tool(family, 77);
-    EXPECT_EQ(estimate_tool_frame(held.observed).salient_effector, has_salient_effector(family)) << to_string(family);
+    EXPECT_EQ(estimate_tool_frame(held.observed).diagnostics.salient_effector, has_salient_effector(family))
+        << to_string(family);
   }
 }
 
@@ -410,7 +411,8 @@ TEST(ToolFrameAccuracy, BladesAreCentredPlatesAlongTheHandle) {
     for (ToolFamily family :
          {ToolFamily::hook, ToolFamily::l_stick, ToolFamily::t_bar, ToolFamily::rake, ToolFamily::hoe}) {
       const auto other = make_held_tool(family, 110u + g);
-      EXPECT_FALSE(estimate_tool_frame(other.observed).head_is_blade) << to_string(family) << " grasp " << g;
+      EXPECT_FALSE(estimate_tool_frame(other.observed).diagnostics.head_is_blade)
+          << to_string(family) << " grasp " << g;
     }
   }
   // A grasp may hide a wing behind the hand's cut.
@@ -436,7 +438,7 @@ TEST(ToolFrameAccuracy, SmearBehindTheHeadDoesNotReverseTheEffector) {
       hoe.observed.push_back(rotation * canonical + translation);
     }
     const ToolFrame frame = estimate_tool_frame(hoe.observed);
-    EXPECT_FALSE(frame.salient_effector) << "grasp " << g << ": the smear should make the reaches alike";
+    EXPECT_FALSE(frame.diagnostics.salient_effector) << "grasp " << g << ": the smear should make the reaches alike";
     right += frame.effector_axis().dot(rotation.col(0)) > 0;
   }
   EXPECT_GE(right, kGrasps - 1) << right << " of " << kGrasps;

@@ -99,45 +99,48 @@ struct SymmetryCandidate {
   double score;  // the sweep's score (by contradiction): 0 perfect mirror, 1 none
 };
 
-struct ToolFrame {
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // hand_from_tool rotation: columns X, Y, Z
-  Vec3 origin = Vec3::Zero();                          // centre of mass, on the symmetry plane
-  Vec3 eigenvalues = Vec3::Zero();                     // of the resampled cloud, descending, m^2
-
-  // Diagnostics.
+// How the frame was found: for the record (the tool_frame JSON's diagnostics), not for use.
+struct ToolFrameDiagnostics {
   Vec3 centroid = Vec3::Zero();                             // mean of the resampled points (before projection)
   Eigen::Matrix3d principal = Eigen::Matrix3d::Identity();  // major, middle, minor axes
   double handle_refinement_deg = 0.0;                       // angle between the major axis and the refined handle axis
-  Vec3 handle_point = Vec3::Zero();                         // a point on the handle's axis line
   int handle_points = 0;
-  double handle_radius = 0.0;                          // m, of the handle's fitted cylinder
   double handle_rms = 0.0;                             // m, RMS radial residual of the handle points
   bool handle_cylinder = true;                         // false when the handle points are not a cylinder surface
   std::vector<SymmetryCandidate> symmetry_candidates;  // the sweep, then the refined best
-  std::vector<SymmetryCandidate> tied_planes;          // every basin of the sweep scoring within the tie margin of
-                                                       // the best, refined; the rules above chose one of them
-  std::vector<SymmetryCandidate> rival_planes;         // planes of the sweep 30 degrees or more from the chosen one
-                                                       // scoring within symmetry-doubt-margin of it, best first
-  double symmetry_score = 1.0;                         // the chosen plane's score
   double across_handle_score = 1.0;                    // plane across the handle: reported, never eligible
-  std::string symmetry_plane_rule;
   std::string handle_sign_rule;
   std::string effector_sign_rule;
   double effector_reach_positive = 0.0;  // m, along +X from the handle axis
   double effector_reach_negative = 0.0;  // m, along -X
   bool salient_effector = false;
-  bool effector_side_clear = true;  // salience or the head's curl decided the effector's side
-  bool head_is_blade = false;       // the head is a blade (see blade_flatness)
-  HeadKind head_kind = HeadKind::other;
+  bool head_is_blade = false;                  // the head is a blade (see blade_flatness)
   double head_length = 0.0, head_width = 0.0;  // m: the head's extent along the handle and across the plane
   double hand_to_handle = 0.0;                 // m: distance from the hand's origin to the handle's axis line
   double head_extent = 0.0;                    // m: how far the effector side stands out from the handle's axis
                                                // (salience-quantile of its points' distances)
-  bool stick = false;                          // head_extent below stick-width: no head
   double head_curl = 0.0;                      // m: how far the head's edges rise along +X above its middle,
                                                // measured when the head is thinnest along X
   int points_input = 0, points_outside_hand = 0, points_used = 0;
-  Confidence confidence;  // whether the handle is the one held and the effector's side clear
+};
+
+struct ToolFrame {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // hand_from_tool rotation: columns X, Y, Z
+  Vec3 origin = Vec3::Zero();                          // centre of mass, on the symmetry plane
+  Vec3 eigenvalues = Vec3::Zero();                     // of the resampled cloud, descending, m^2
+  Vec3 handle_point = Vec3::Zero();                    // a point on the handle's axis line
+  double handle_radius = 0.0;                          // m, of the handle's fitted cylinder
+  HeadKind head_kind = HeadKind::other;
+  bool stick = false;                           // nothing stands out from the handle by stick-width: no head
+  bool effector_side_clear = true;              // salience or the head's curl decided the effector's side
+  double symmetry_score = 1.0;                  // the chosen plane's score
+  std::string symmetry_plane_rule;              // what chose the plane
+  std::vector<SymmetryCandidate> tied_planes;   // every basin of the sweep scoring within the tie margin of
+                                                // the best, refined; the rules above chose one of them
+  std::vector<SymmetryCandidate> rival_planes;  // planes of the sweep 30 degrees or more from the chosen one
+                                                // scoring within symmetry-doubt-margin of it, best first
+  Confidence confidence;                        // whether the handle is the one held and the effector's side clear
+  ToolFrameDiagnostics diagnostics;
 
   Eigen::Matrix4d hand_from_tool() const;
   // A blade or scoop continuing the handle works with its far end, not with its front.
