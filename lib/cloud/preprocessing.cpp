@@ -10,6 +10,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/scatter.hpp"
@@ -18,11 +19,10 @@ namespace toolinc {
 
 namespace {
 
-// The mean of each run of points with equal keys, in key order (ties by index), so that the result does
+// The mean of each run of points with equal keys, keyed sorted by key then index, so that the result does
 // not depend on the input's order.
 template <typename Key>
-Points voxel_means(std::vector<std::pair<Key, std::uint32_t>>& keyed, const Points& points) {
-  std::sort(keyed.begin(), keyed.end());
+Points voxel_means(const std::vector<std::pair<Key, std::uint32_t>>& keyed, const Points& points) {
   Points out;
   for (std::size_t begin = 0; begin < keyed.size();) {
     std::size_t end = begin;
@@ -32,6 +32,22 @@ Points voxel_means(std::vector<std::pair<Key, std::uint32_t>>& keyed, const Poin
     begin = end;
   }
   return out;
+}
+
+// Least-significant-digit radix sort by key, 11 bits a pass, over the bits below max_key only. Stable: the
+// pairs come in index order, so the result is that of sorting by (key, index).
+void radix_sort(std::vector<std::pair<std::uint64_t, std::uint32_t>>& keyed, std::uint64_t max_key) {
+  constexpr int kBits = 11;
+  constexpr std::size_t kDigits = std::size_t{1} << kBits;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted(keyed.size());
+  for (int shift = 0; shift < 64 && (max_key >> shift) != 0; shift += kBits) {
+    std::array<std::size_t, kDigits> start{};
+    for (const auto& k : keyed) ++start[(k.first >> shift) & (kDigits - 1)];
+    std::size_t total = 0;
+    for (auto& s : start) total += std::exchange(s, total);
+    for (const auto& k : keyed) sorted[start[(k.first >> shift) & (kDigits - 1)]++] = k;
+    keyed.swap(sorted);
+  }
 }
 
 }  // namespace
@@ -51,19 +67,23 @@ Points voxel_downsample(const Points& points, double voxel_size) {
     lo = lo.cwiseMin(cells[i]);
     hi = hi.cwiseMax(cells[i]);
   }
-  // A cloud spanning fewer than 2^21 voxels per axis (8 km at 4 mm) packs its cells into one 64-bit key,
-  // x then y then z as the three keys order them: one integer compares several times faster.
-  constexpr std::int64_t kPacked = std::int64_t{1} << 21;
-  if (points.empty() || (hi - lo).maxCoeff() < kPacked) {
+  // The cells numbered x then y then z within the cloud's box, as the three keys order them, when that
+  // number fits in 63 bits (a box of 2^21 voxels a side: 8 km at 4 mm): one integer, radix-sorted.
+  const Cell span = points.empty() ? Cell::Ones() : Cell(hi - lo + Cell::Ones());
+  if (static_cast<long double>(span.x()) * span.y() * span.z() < 0x1p63L) {
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+    std::uint64_t max_key = 0;
     for (std::uint32_t i = 0; i < points.size(); ++i) {
       const Cell c = cells[i] - lo;
-      keyed[i] = {static_cast<std::uint64_t>((c.x() << 42) | (c.y() << 21) | c.z()), i};
+      keyed[i] = {static_cast<std::uint64_t>((c.x() * span.y() + c.y()) * span.z() + c.z()), i};
+      max_key = std::max(max_key, keyed[i].first);
     }
+    radix_sort(keyed, max_key);
     return voxel_means(keyed, points);
   }
   std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> keyed(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) keyed[i] = {{cells[i].x(), cells[i].y(), cells[i].z()}, i};
+  std::sort(keyed.begin(), keyed.end());
   return voxel_means(keyed, points);
 }
 

@@ -63,17 +63,22 @@ Points voxel_means_by_map(const Points& points, double voxel_size) {
   return means;
 }
 
-// Both the packed 64-bit keys (a tool-sized cloud) and the three-key path (a cloud spanning more than 2^21
-// voxels along an axis) must give the plain definition's points, bit for bit, negative cells included.
+// Both the one-integer keys (a tool-sized cloud, and one 9 km long) and the three-key path (a box of more
+// cells than 63 bits number) must give the plain definition's points, bit for bit, negative cells included.
 TEST(VoxelDownsample, EveryVoxelsMeanInVoxelOrder) {
   std::mt19937 random(3);
   std::uniform_real_distribution<double> u(-0.2, 0.2);
   Points tool;
   for (int i = 0; i < 3000; ++i) tool.emplace_back(u(random), u(random), u(random));
+  // 9 km away along x: 2.25 million 4 mm voxels along x, a key of 35 bits (four radix passes).
   Points wide = tool;
-  wide.emplace_back(9000.0, 0.0, 0.0);  // 9 km away: 2.25 million 4 mm voxels along x
+  wide.emplace_back(9000.0, 0.0, 0.0);
   wide.emplace_back(9000.001, 0.0, 0.0);
-  for (const Points* points : {&tool, &wide}) {
+  // 9 km away along every axis: more cells in the box than 63 bits number, so three keys.
+  Points far = wide;
+  far.emplace_back(0.0, 9000.0, 0.0);
+  far.emplace_back(0.0, 0.0, 9000.0);
+  for (const Points* points : {&tool, &wide, &far}) {
     const Points expected = voxel_means_by_map(*points, 0.004);
     const Points got = voxel_downsample(*points, 0.004);
     ASSERT_EQ(got.size(), expected.size());
