@@ -41,42 +41,39 @@ std::int32_t KdTree::build(std::uint32_t begin, std::uint32_t end, int leaf_size
   return id;
 }
 
-// Depth-first search with pruning against a shrinking squared bound; `visit(index, d2)` may lower it.
-// Each pending node carries the squared distance from the query to its box, kept per axis so that a
-// split updates it exactly: a node is skipped only when no point of its box can be within the bound.
+// Depth-first search, the near child first, pruning against a shrinking squared bound; `visit(index, d2)`
+// may lower it. min_d2 is the squared distance from the query to the node's box, kept per axis in
+// axis_d2 so that a split updates it exactly: a node is skipped only when no point of its box can be
+// within the bound.
+template <typename Visit>
+void KdTree::search(std::int32_t id, const Vec3& query, double min_d2, Vec3& axis_d2, double& bound2,
+                    Visit& visit) const {
+  const Node& node = nodes_[id];
+  if (node.split_dim < 0) {
+    for (std::uint32_t i = node.begin; i < node.end; ++i) {
+      const double d2 = (ordered_[i] - query).squaredNorm();
+      if (d2 <= bound2) visit(order_[i], d2);
+    }
+    return;
+  }
+  const int dim = node.split_dim;
+  const double diff = query[dim] - node.split_value;
+  search(diff < 0 ? node.left : node.right, query, min_d2, axis_d2, bound2, visit);
+  const double previous = axis_d2[dim];
+  const double far_d2 = min_d2 - previous + diff * diff;
+  // The box distance is rounded differently from a point's: a margin of a few ulps keeps a point at
+  // exactly the bound (a tie, broken by index) from being pruned.
+  if (far_d2 > bound2 * (1.0 + 1e-12)) return;
+  axis_d2[dim] = diff * diff;
+  search(diff < 0 ? node.right : node.left, query, far_d2, axis_d2, bound2, visit);
+  axis_d2[dim] = previous;
+}
+
 template <typename Visit>
 void KdTree::search(const Vec3& query, double& bound2, Visit&& visit) const {
   if (nodes_.empty()) return;
-  struct Pending {
-    std::int32_t node;
-    double min_d2;
-    Eigen::Vector3d axis_d2;  // the box's squared distance from the query along each axis
-  };
-  Pending stack[64];
-  int top = 0;
-  stack[top++] = {0, 0.0, Eigen::Vector3d::Zero()};
-  while (top > 0) {
-    const Pending item = stack[--top];
-    // The box distance is rounded differently from a point's: a margin of a few ulps keeps a point at
-    // exactly the bound (a tie, broken by index) from being pruned.
-    if (item.min_d2 > bound2 * (1.0 + 1e-12)) continue;
-    const Node& node = nodes_[item.node];
-    if (node.split_dim < 0) {
-      for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const double d2 = (ordered_[i] - query).squaredNorm();
-        if (d2 <= bound2) visit(order_[i], d2);
-      }
-      continue;
-    }
-    const double diff = query[node.split_dim] - node.split_value;
-    const std::int32_t near = diff < 0 ? node.left : node.right;
-    const std::int32_t far = diff < 0 ? node.right : node.left;
-    // The far child goes first on the stack so the near one is searched first.
-    Pending beyond{far, item.min_d2 - item.axis_d2[node.split_dim] + diff * diff, item.axis_d2};
-    beyond.axis_d2[node.split_dim] = diff * diff;
-    stack[top++] = beyond;
-    stack[top++] = {near, item.min_d2, item.axis_d2};
-  }
+  Vec3 axis_d2 = Vec3::Zero();
+  search(0, query, 0.0, axis_d2, bound2, visit);
 }
 
 KdTree::Neighbor KdTree::nearest(const Vec3& query, double max_distance) const {

@@ -43,6 +43,8 @@ class KdTree {
   std::int32_t build(std::uint32_t begin, std::uint32_t end, int leaf_size, Vec3 lo, Vec3 hi);
   template <typename Visit>
   void search(const Vec3& query, double& bound2, Visit&& visit) const;
+  template <typename Visit>
+  void search(std::int32_t id, const Vec3& query, double min_d2, Vec3& axis_d2, double& bound2, Visit& visit) const;
 
   const Points& points_;
   std::vector<std::uint32_t> order_;
