@@ -3,11 +3,11 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
-#include <optional>
+#include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/error.hpp"
@@ -142,6 +142,39 @@ double local_noise(const KdTree& tree, const Vec3& point, int k) {
   return std::sqrt(std::max(0.0, solver.eigenvalues()(0)) / static_cast<double>(near.size()));
 }
 
+// The rule's tips at these surface points, each projected onto f's symmetry plane and moved back off the
+// fringe to the surface's edge (and how far, in retreats). The edge is sought among the points projected
+// there too: the head's whole width piles up on the plane, so a lobe of fringe at one side of it is sparse
+// against it. Only the projected points within reach of the search (fringe-depth behind a tip, then
+// tip-edge-radius around, with a margin for the steps' rounding) can count, so only those are indexed.
+std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const std::vector<Vec3>& surface_points,
+                                 const TooltipConfig& config, std::vector<double>* retreats = nullptr) {
+  const Vec3 z = f.symmetry_axis();
+  std::vector<Vec3> on_plane, directions;
+  Eigen::AlignedBox3d reach;
+  for (const auto& point : surface_points) {
+    Vec3 direction = rule_direction(point, f, config);
+    direction -= direction.dot(z) * z;
+    on_plane.push_back(on_symmetry_plane(point, f));
+    directions.push_back(direction.norm() < 1e-9 ? Vec3::Zero() : Vec3(direction.normalized()));
+    reach.extend(on_plane.back());
+  }
+  const double margin = config.fringe_depth + 2.0 * config.tip_edge_radius;
+  reach.min().array() -= margin;
+  reach.max().array() += margin;
+  Points near;
+  for (const auto& q : points)
+    if (const Vec3 projected = on_symmetry_plane(q, f); reach.contains(projected)) near.push_back(projected);
+  const KdTree tree(near);
+  std::vector<Vec3> edges;
+  for (std::size_t i = 0; i < surface_points.size(); ++i) {
+    const double back = directions[i].isZero() ? 0.0 : edge_retreat(tree, on_plane[i], directions[i], config);
+    if (retreats) retreats->push_back(back);
+    edges.push_back(on_plane[i] - back * directions[i]);
+  }
+  return edges;
+}
+
 }  // namespace
 
 double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config) {
@@ -169,38 +202,6 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   tip.tied = static_cast<int>(p.tied.size());
   tip.surface_point = points[p.chosen];
   tip.score = p.score;
-  // The rule's tip projected onto the symmetry plane and moved back off the fringe to the surface's edge.
-  // The edge is sought among the points projected there too: the head's whole width piles up on the
-  // plane, so a lobe of fringe at one side of it is sparse against it. One projection per plane.
-  struct Projection {
-    Vec3 normal;
-    Points points;
-    std::optional<KdTree> tree;  // over points, which it refers to: built in place, never moved
-  };
-  std::deque<Projection> projections;
-  const auto projected = [&](const ToolFrame& f) -> const KdTree& {
-    for (const auto& projection : projections)
-      if (std::abs(projection.normal.dot(f.symmetry_axis())) > 1.0 - 1e-12) return *projection.tree;
-    Projection& projection = projections.emplace_back();
-    projection.normal = f.symmetry_axis();
-    projection.points.reserve(points.size());
-    for (const auto& q : points) projection.points.push_back(on_symmetry_plane(q, f));
-    return projection.tree.emplace(projection.points);
-  };
-  const auto on_edge = [&](const Vec3& point, const ToolFrame& f, double* retreat = nullptr) {
-    const Vec3 z = f.symmetry_axis(), on_plane = on_symmetry_plane(point, f);
-    Vec3 direction = rule_direction(point, f, config);
-    direction -= direction.dot(z) * z;
-    if (direction.norm() < 1e-9) return on_plane;
-    direction.normalize();
-    const double back = edge_retreat(projected(f), on_plane, direction, config);
-    if (retreat) *retreat = back;
-    return Vec3(on_plane - back * direction);
-  };
-  tip.position = on_edge(points[p.chosen], frame, &tip.edge_retreat_m);
-  tip.position_in_tool = frame.axes.transpose() * (tip.position - frame.origin);
-  tip.position_in_tool.z() = 0.0;
-
   // Uncertainty: the tied points whose tie-break is within 2 sigma of the best could as well have won
   // under the measured noise. The tie-break's sigma: the noise itself for the distance from the hand;
   // w times the noise over the square root of the neighbourhood for the averaged distance in front.
@@ -211,11 +212,22 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
                        : config.rule == TooltipRule::furthest ? tip.noise_m
                                                               : config.effector_weight * smoothed;
   const double best = *std::max_element(p.tie_breaks.begin(), p.tie_breaks.end());
+  std::vector<std::size_t> close;  // of p.tied: within 2 sigma of the best
+  std::vector<Vec3> surface_points{points[p.chosen]};
+  for (std::size_t j = 0; j < p.tied.size(); ++j)
+    if (p.tie_breaks[j] >= best - 2 * sigma) close.push_back(j), surface_points.push_back(points[p.tied[j]]);
+  std::vector<double> retreats;
+  const std::vector<Vec3> edges = edges_on_plane(points, frame, surface_points, config, &retreats);
+  tip.position = edges[0];
+  tip.edge_retreat_m = retreats[0];
+  tip.position_in_tool = frame.axes.transpose() * (tip.position - frame.origin);
+  tip.position_in_tool.z() = 0.0;
+
   std::size_t other_tied = p.tied.size();   // the best of those farther than ambiguity-distance
   Vec3 other_tied_position = Vec3::Zero();  // its tip
-  for (std::size_t j = 0; j < p.tied.size(); ++j) {
-    if (p.tie_breaks[j] < best - 2 * sigma) continue;
-    const Vec3 position = on_edge(points[p.tied[j]], frame);
+  for (std::size_t c = 0; c < close.size(); ++c) {
+    const std::size_t j = close[c];
+    const Vec3& position = edges[c + 1];
     const double d = (position - tip.position).norm();
     tip.uncertainty_m = std::max(tip.uncertainty_m, d);
     if (d > config.ambiguity_distance && (other_tied == p.tied.size() || p.tie_breaks[j] > p.tie_breaks[other_tied])) {
@@ -231,7 +243,8 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
   const auto add_tip_with = [&](const ToolFrame& other, double plane_score, const char* source) {
     const Pick q = pick(points, tree, other, config);
     if (q.chosen != KdTree::npos)
-      tip.alternatives.push_back({on_edge(points[q.chosen], other), other.symmetry_axis(), plane_score, source});
+      tip.alternatives.push_back(
+          {edges_on_plane(points, other, {points[q.chosen]}, config)[0], other.symmetry_axis(), plane_score, source});
   };
   for (const auto& [planes, source] :
        {std::pair{&frame.tied_planes, "tied symmetry plane"}, std::pair{&frame.rival_planes, "rival symmetry plane"}})
