@@ -56,20 +56,35 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
                ? front(i)
                : config.effector_weight * front(i) + (1.0 - config.effector_weight) * points[i].norm();
   };
-  // Sorted by the primary score, ties by index, so the result does not depend on the sort's stability.
+  // Best first by the primary score, ties by index, so the order does not depend on the sort's stability.
+  // Only the best end is needed (the first dense candidate and those tied with it), so the candidates
+  // within twice tie-tolerance of the best are sorted first, and the rest only if the search reaches them.
   std::vector<double> s(points.size());
-  for (auto i : candidates) s[i] = primary(i);
-  std::sort(candidates.begin(), candidates.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return s[a] > s[b] || (s[a] == s[b] && a < b); });
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (auto i : candidates) best_score = std::max(best_score, s[i] = primary(i));
+  const auto better = [&](std::uint32_t a, std::uint32_t b) { return s[a] > s[b] || (s[a] == s[b] && a < b); };
+  const auto top_end = std::partition(candidates.begin(), candidates.end(),
+                                      [&](std::uint32_t i) { return s[i] >= best_score - 2 * config.tie_tolerance; });
+  std::sort(candidates.begin(), top_end, better);
+  bool all_sorted = top_end == candidates.end();
+  const auto sort_all = [&] {
+    if (!all_sorted) std::sort(top_end, candidates.end(), better);
+    all_sorted = true;
+  };
 
   Pick p;
   p.candidates = static_cast<int>(candidates.size());
   // Points scoring within tie-tolerance (about 3 sigma of the noise) of the best dense point tie: noise,
   // not the shape, decides which of them scores best.
-  const auto first_dense = std::find_if(candidates.begin(), candidates.end(), dense);
+  auto first_dense = std::find_if(candidates.begin(), top_end, dense);
+  if (first_dense == top_end) {
+    sort_all();
+    first_dense = std::find_if(top_end, candidates.end(), dense);
+  }
   p.rejected_sparse = static_cast<int>(first_dense - candidates.begin());
   if (first_dense == candidates.end()) return p;
   const double cutoff = s[*first_dense] - config.tie_tolerance;
+  if (cutoff < best_score - 2 * config.tie_tolerance) sort_all();  // the ties reach below the sorted part
   for (auto it = first_dense; it != candidates.end() && s[*it] >= cutoff; ++it)
     if (dense(*it)) p.tied.push_back(*it);
   // The tie-break. furthest: the distance from the hand. weighted: the original's score with the
