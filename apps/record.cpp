@@ -1,4 +1,4 @@
-// record --robot icub --hand right --label hoe -o SESSION: the exploration on the robot (issue 6). Moves
+// record --robot icub --hand right --label hoe -o SESSION: the exploration on the robot. Moves
 // the hand holding the tool through the exploration poses, fixates the tool and records each view into a
 // session (docs/formats.md). --backend yarp talks to the iCub's modules; --backend sim to the simulated robot.
 #include <spdlog/spdlog.h>

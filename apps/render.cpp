@@ -1,7 +1,7 @@
 // render CLOUD... [--frame FRAME.json] [--tooltip TOOLTIP.json] [--pose POSE.json --model MODEL] -o OUT.png:
 // a headless picture of clouds in the hand frame with the tool frame, the tooltip and a known tool's
 // model where align-pose says it is held; render --session SESSION -o SHEET.png: a contact sheet of a
-// recorded session's views (issue 7).
+// recorded session's views.
 #include "toolinc/render/render.hpp"
 
 #include <spdlog/spdlog.h>

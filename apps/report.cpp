@@ -1,5 +1,5 @@
 // report SESSION_OUTPUTS -o REPORT.html: one self-contained HTML page of a session's pipeline outputs
-// (renders, merge table, tool frame, tooltip, errors against a ground truth) (issue 7).
+// (renders, merge table, tool frame, tooltip, errors against a ground truth).
 #include "toolinc/report/report.hpp"
 
 #include <spdlog/spdlog.h>

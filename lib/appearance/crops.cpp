@@ -12,6 +12,7 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/read_file.hpp"
+#include "toolinc/session/crop.hpp"
 #include "toolinc/session/image_decode.hpp"
 
 namespace toolinc {
@@ -48,34 +49,18 @@ void check_box_inside(const cv::Rect& box, const cv::Size& image, const std::str
 
 namespace {
 
-constexpr const char* kNoBlob = "no blob inside the image (neither blob.png nor a blob roi)";
+constexpr const char* kNoTool = "nothing within the tool's reach and no blob roi";
 
-// The crop of a view: the tight box of the blob mask plus our margin, or else the recorded roi
-// (inclusive corners), which already holds the detector's margin; clipped to the image.
-std::optional<cv::Rect> view_crop_box(const ViewData& data, const ViewRecord& record) {
-  const cv::Size size = data.left.size();
-  if (!data.blob.empty() && cv::countNonZero(data.blob) > 0) return crop_around(cv::boundingRect(data.blob), size);
-  if (!record.blob) return std::nullopt;
-  const auto& roi = record.blob->roi;
-  const cv::Rect box =
-      cv::Rect(cv::Point(roi[0], roi[1]), cv::Point(roi[2] + 1, roi[3] + 1)) & cv::Rect(cv::Point(0, 0), size);
-  if (box.area() == 0) return std::nullopt;
-  return box;
-}
-
-// The blob's pixels with a valid disparity, back-projected through the left camera (z = fx b / d) and
-// moved into the hand frame by the view's recorded poses.
-std::vector<Eigen::Vector3d> blob_points(const ViewData& data, const CameraModel& camera, const ViewRecord& record) {
+// The 3D points of the mask's pixels, in the hand frame (the view's recorded poses).
+std::vector<Eigen::Vector3d> tool_points(const SessionInfo& session, const ViewRecord& record, const ViewData& data,
+                                         const cv::Mat& mask) {
+  const std::vector<Vec3> root_points = view_root_points(session.camera, record, data);
+  const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
   std::vector<Eigen::Vector3d> points;
-  if (data.blob.empty()) return points;
-  const Eigen::Matrix4d hand_from_camera = inverse(record.root_from_hand) * record.root_from_camera;
-  for (int y = 0; y < data.blob.rows; ++y)
-    for (int x = 0; x < data.blob.cols; ++x) {
-      const int value = data.disparity.at<uchar>(y, x);
-      if (!data.blob.at<uchar>(y, x) || value == 0) continue;
-      const double z = camera.fx * camera.baseline / camera.disparity_px(value);
-      points.push_back(apply(hand_from_camera, {(x - camera.cx) * z / camera.fx, (y - camera.cy) * z / camera.fy, z}));
-    }
+  for (int i = 0; i < static_cast<int>(root_points.size()); ++i) {
+    if (!mask.data[i] || !root_points[i].allFinite()) continue;
+    points.push_back(apply(hand_from_root, root_points[i]));
+  }
   return points;
 }
 
@@ -90,21 +75,30 @@ std::vector<ViewCrop> session_crops(const std::string& session_dir, const Sessio
   for (std::size_t i = 0; i < session.views.size(); ++i) {
     if (view && i != *view) continue;
     const ViewData data = read_view(session_dir, session, i);
-    const auto view_file = (std::filesystem::path(session_dir) / session.views[i].dir / "view.json").string();
-    const auto crop = view_crop_box(data, session.views[i]);
-    if (!crop) {
-      // The blob detector finds nothing in some views (no disparity on a textureless tool): such a view
-      // shows nothing to recognise, and the session's other views still do.
-      if (view) throw InputError(view_file, std::string(kNoBlob) + " to crop the tool from");
-      spdlog::warn("{}: {}: view skipped", view_file, kNoBlob);
+    const ViewRecord& record = session.views[i];
+    const ViewToolMask tool = view_tool_mask(session, record, data);
+    if (cv::countNonZero(tool.mask) > 0) {
+      const cv::Rect box = crop_around(cv::boundingRect(tool.mask), data.left.size());
+      crops.push_back({i, box, data.left(box).clone(), tool.mask(box).clone(),
+                       tool_points(session, record, data, tool.with_depth)});
       continue;
     }
-    crops.push_back({i, *crop, data.left(*crop).clone(), data.blob.empty() ? cv::Mat() : data.blob(*crop).clone(),
-                     blob_points(data, session.camera, session.views[i])});
+    // Nothing within the tool's reach (no disparity on a textureless tool): the detector's recorded box
+    // is all there is, or the view shows nothing to recognise and the session's other views still do.
+    const auto view_file = (std::filesystem::path(session_dir) / record.dir / "view.json").string();
+    const auto& roi = record.blob ? record.blob->roi : std::array<int, 4>{0, 0, -1, -1};
+    const cv::Rect box = cv::Rect(cv::Point(roi[0], roi[1]), cv::Point(roi[2] + 1, roi[3] + 1)) &
+                         cv::Rect(cv::Point(0, 0), data.left.size());
+    if (box.area() > 0) {
+      crops.push_back({i, box, data.left(box).clone(), cv::Mat(), {}});
+      continue;
+    }
+    if (view) throw InputError(view_file, std::string(kNoTool) + " to crop the tool from");
+    spdlog::warn("{}: {}: view skipped", view_file, kNoTool);
   }
   if (crops.empty())
     throw InputError((std::filesystem::path(session_dir) / "session.json").string(),
-                     fmt::format("every view: {} to crop the tool from", kNoBlob));
+                     fmt::format("every view: {} to crop the tool from", kNoTool));
   return crops;
 }
 

@@ -55,7 +55,7 @@ Axis handle_axis(const std::vector<Eigen::Vector3d>& points, const DepthShapeCon
   }
   // The hand holds the handle, so its line passes near the hand. A line farther away was fitted to the
   // head alone (a view down the handle, the handle hidden behind the head): the line from the hand
-  // through the tool's centroid is then the better guess (issue 18: 43-90 degrees off -> 2-20).
+  // through the tool's centroid is then the better guess (43-90 degrees off -> 2-20).
   const Eigen::Vector3d from_hand = axis.origin - axis.origin.dot(axis.direction) * axis.direction;
   if (from_hand.norm() > c.grasp_reach && centroid.squaredNorm() > 0)
     axis.origin = Eigen::Vector3d::Zero(), axis.direction = centroid.normalized();

@@ -50,14 +50,20 @@ cv::Mat scaled(const cv::Mat& image, const cv::Size& size, int interpolation) {
   return out;
 }
 
-cv::Mat left_panel(const ViewRecord& record, const cv::Mat& left, const cv::Mat& mask, double scale,
-                   const cv::Size& size) {
-  cv::Mat panel = scaled(left, size, cv::INTER_AREA);
+// The mask's outline, scaled to the panel.
+void draw_outline(cv::Mat& panel, const cv::Mat& mask, double scale, const cv::Scalar& colour) {
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   for (auto& contour : contours)
     for (auto& p : contour) p = cv::Point(cvRound(p.x * scale), cvRound(p.y * scale));
-  cv::drawContours(panel, contours, -1, kSheetBlobOutline, 1, cv::LINE_8);
+  cv::drawContours(panel, contours, -1, colour, 1, cv::LINE_8);
+}
+
+cv::Mat left_panel(const ViewRecord& record, const cv::Mat& left, const cv::Mat& mask, const cv::Mat& tool,
+                   double scale, const cv::Size& size) {
+  cv::Mat panel = scaled(left, size, cv::INTER_AREA);
+  draw_outline(panel, mask, scale, kSheetBlobOutline);
+  draw_outline(panel, tool, scale, kSheetToolMask);
   // The blob detector's box when recorded, else the mask's.
   cv::Rect box = cv::boundingRect(mask);
   if (record.blob) {
@@ -68,6 +74,7 @@ cv::Mat left_panel(const ViewRecord& record, const cv::Mat& left, const cv::Mat&
     cv::rectangle(panel, cv::Point(cvRound(box.x * scale), cvRound(box.y * scale)),
                   cv::Point(cvRound(box.br().x * scale), cvRound(box.br().y * scale)), kSheetBlobBox, 1, cv::LINE_8);
   draw_label(panel, fmt::format("blob {} px ({})", cv::countNonZero(mask), record.blob ? "recorded" : "detected"), 0);
+  draw_label(panel, fmt::format("tool mask {} px", cv::countNonZero(tool)), 1);
   return panel;
 }
 
@@ -147,7 +154,7 @@ cv::Mat render_contact_sheet(const std::string& session_dir, const ContactSheetO
             fmt::format("{}: {} hand, tool {}, {} views, {} x {}", name.empty() ? session_dir : name, session.hand,
                         session.tool_label.value_or("unlabelled"), views, session.camera.width, session.camera.height),
             {layout.gap, 20}, 0.55, kInk);
-  const char* titles[] = {"left image, blob outline and box", "disparity (8-bit, colour map)",
+  const char* titles[] = {"left: blob (magenta), box, tool mask (cyan)", "disparity (8-bit, colour map)",
                           "cropped cloud, projected"};
   for (int p = 0; p < 3; ++p) draw_text(sheet, titles[p], {layout.x(p), layout.header - 10}, 0.45, kInk);
 
@@ -158,7 +165,8 @@ cv::Mat render_contact_sheet(const std::string& session_dir, const ContactSheetO
     draw_text(sheet,
               fmt::format("{}  wrist ({:.0f}, {:.0f}) deg", record.dir, record.wrist_deg.x(), record.wrist_deg.y()),
               {layout.x(0), layout.y(v) - 6}, 0.45, kInk);
-    const cv::Mat panels[] = {left_panel(record, view.left, mask, scale, panel_size),
+    const cv::Mat tool = view_tool_mask(session, record, view, options.crop).mask;
+    const cv::Mat panels[] = {left_panel(record, view.left, mask, tool, scale, panel_size),
                               disparity_panel(view.disparity, panel_size),
                               crop_panel(session, record, view, options.crop, scale, panel_size)};
     for (int p = 0; p < 3; ++p) panels[p].copyTo(sheet(cv::Rect(cv::Point(layout.x(p), layout.y(v)), panel_size)));

@@ -23,27 +23,15 @@ Vec3 reproject_disparity(const CameraModel& camera, const Eigen::Matrix4d& root_
 
 namespace {
 
-// Keeps the mask pixels 8-connected to the seed through 3D points closer than `distance` to each other
-// (region growing with local continuity, as the stereo module's Flood3D).
-cv::Mat flood_3d(const cv::Mat& mask, const std::vector<Vec3>& root_points, double distance) {
-  const int w = mask.cols, h = mask.rows;
-  const auto valid = [&](int i) { return mask.data[i] && root_points[i].allFinite(); };
-  cv::Moments m = cv::moments(mask, true);
-  if (m.m00 <= 0) return mask;
-  const cv::Point centre(static_cast<int>(m.m10 / m.m00), static_cast<int>(m.m01 / m.m00));
-  int seed = -1;
-  long best = std::numeric_limits<long>::max();
-  for (int i = 0; i < w * h; ++i)
-    if (valid(i)) {
-      const long d = static_cast<long>(i % w - centre.x) * (i % w - centre.x) +
-                     static_cast<long>(i / w - centre.y) * (i / w - centre.y);
-      if (d < best) best = d, seed = i;
-    }
-  cv::Mat grown = cv::Mat::zeros(mask.size(), CV_8UC1);
-  if (seed < 0) return grown;
+// The `allowed` pixels that a path of 8-neighbours, each less than `step` apart in 3D, joins to one of the
+// `sources` (region growing with local continuity, as the stereo module's Flood3D); a source is in the
+// result only if it is allowed.
+cv::Mat grown_along_surface(const std::vector<int>& sources, const cv::Mat& allowed, const std::vector<Vec3>& points,
+                            double step) {
+  const int w = allowed.cols, h = allowed.rows;
+  cv::Mat reached = cv::Mat::zeros(allowed.size(), CV_8UC1);
   std::queue<int> queue;
-  queue.push(seed);
-  grown.data[seed] = 255;
+  for (const int i : sources) reached.data[i] = 255, queue.push(i);
   while (!queue.empty()) {
     const int i = queue.front();
     queue.pop();
@@ -51,13 +39,34 @@ cv::Mat flood_3d(const cv::Mat& mask, const std::vector<Vec3>& root_points, doub
     for (int dv = -1; dv <= 1; ++dv)
       for (int du = -1; du <= 1; ++du) {
         const int nu = u + du, nv = v + dv, j = nv * w + nu;
-        if (nu < 0 || nv < 0 || nu >= w || nv >= h || grown.data[j] || !valid(j)) continue;
-        if ((root_points[j] - root_points[i]).norm() > distance) continue;
-        grown.data[j] = 255;
+        if (nu < 0 || nv < 0 || nu >= w || nv >= h || reached.data[j] || !allowed.data[j]) continue;
+        if ((points[j] - points[i]).norm() > step) continue;
+        reached.data[j] = 255;
         queue.push(j);
       }
   }
-  return grown;
+  return reached & allowed;
+}
+
+// Keeps the mask pixels joined through 3D continuity to the one with a 3D point nearest the mask's centroid.
+cv::Mat flood_3d(const cv::Mat& mask, const std::vector<Vec3>& root_points, double distance) {
+  const int w = mask.cols, h = mask.rows;
+  cv::Mat valid = mask.clone();
+  for (int i = 0; i < w * h; ++i)
+    if (!root_points[i].allFinite()) valid.data[i] = 0;
+  cv::Moments m = cv::moments(mask, true);
+  if (m.m00 <= 0) return mask;
+  const cv::Point centre(static_cast<int>(m.m10 / m.m00), static_cast<int>(m.m01 / m.m00));
+  int seed = -1;
+  long best = std::numeric_limits<long>::max();
+  for (int i = 0; i < w * h; ++i)
+    if (valid.data[i]) {
+      const long d = static_cast<long>(i % w - centre.x) * (i % w - centre.x) +
+                     static_cast<long>(i / w - centre.y) * (i / w - centre.y);
+      if (d < best) best = d, seed = i;
+    }
+  if (seed < 0) return cv::Mat::zeros(mask.size(), CV_8UC1);
+  return grown_along_surface({seed}, valid, root_points, distance);
 }
 
 // Each pixel's disparity in pixels (NaN where there is none): from the exact points, as the stereo module
@@ -100,7 +109,59 @@ int drop_depth_edges(cv::Mat& mask, const std::vector<float>& disparity, int rad
   return static_cast<int>(dropped.size());
 }
 
+// Inside the crop box, mirrored for the left hand (the hands' frames are mirror images about the body's
+// midplane).
+bool within_box(const Vec3& p, const SessionInfo& session, const CropConfig& config) {
+  const bool left = session.hand == "left";
+  const double z_min = left ? -config.box_max.z() : config.box_min.z();
+  const double z_max = left ? -config.box_min.z() : config.box_max.z();
+  return p.x() >= config.box_min.x() && p.x() <= config.box_max.x() && p.y() >= config.box_min.y() &&
+         p.y() <= config.box_max.y() && p.z() >= z_min && p.z() <= z_max;
+}
+
 }  // namespace
+
+std::vector<Vec3> view_root_points(const CameraModel& camera, const ViewRecord& record, const ViewData& view) {
+  if (!view.points.empty()) return view.points;
+  const int w = camera.width, h = camera.height;
+  std::vector<Vec3> points(static_cast<std::size_t>(w) * h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      points[static_cast<std::size_t>(v) * w + u] =
+          reproject_disparity(camera, record.root_from_camera, u, v, view.disparity.at<std::uint8_t>(v, u));
+  return points;
+}
+
+bool within_reach(const Vec3& hand_point, const CropConfig& config) {
+  const double distance = hand_point.norm();
+  return distance > config.hand_radius && distance <= config.reach;
+}
+
+ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
+                            const CropConfig& config) {
+  const std::vector<Vec3> root_points = view_root_points(session.camera, record, view);
+  const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
+  const int w = view.left.cols, h = view.left.rows;
+  cv::Mat hand = cv::Mat::zeros(view.left.size(), CV_8UC1), reach = hand.clone();
+  std::vector<int> hand_pixels;
+  for (int i = 0; i < w * h; ++i) {
+    if (!root_points[i].allFinite()) continue;
+    const Vec3 p = apply(hand_from_root, root_points[i]);
+    if (p.norm() <= config.hand_radius)
+      hand.data[i] = 255, hand_pixels.push_back(i);
+    else if (within_reach(p, config))
+      reach.data[i] = 255;
+  }
+  const bool blob = !view.blob.empty() && cv::countNonZero(reach & view.blob) > 0;
+  const cv::Mat seed =
+      blob ? reach & view.blob : grown_along_surface(hand_pixels, reach, root_points, config.surface_step);
+  ToolMaskConfig grow = config.mask;
+  grow.grow = true;
+  ViewToolMask result;
+  result.mask = tool_mask(view.left, seed, grow, hand);
+  result.with_depth = result.mask & seed;
+  return result;
+}
 
 CropConfig matched_stereo_crop() {
   CropConfig config;
@@ -119,6 +180,10 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
     mask = closest_blob_mask(view.disparity, config.blob);
     result.mask_source = "closest blob on the disparity";
   }
+  if (cv::countNonZero(mask) == 0) {
+    mask = view_tool_mask(session, record, view, config).with_depth;
+    result.mask_source = "no blob: the tool followed out of the hand";
+  }
   if (config.image_mask) {
     mask = tool_mask(view.left, mask, config.mask);
     result.mask_source += ", trimmed by the left image";
@@ -126,20 +191,9 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   result.mask_pixels = cv::countNonZero(mask);
   if (result.mask_pixels == 0) throw MethodError(fmt::format("{}: the tool's blob is empty", record.dir));
 
-  // Root-frame points of every pixel: the stereo module's exact ones, or reprojected from the disparity.
   const int w = camera.width, h = camera.height;
-  std::vector<Vec3> root_points;
-  if (!view.points.empty()) {
-    root_points = view.points;
-    result.points_source = "points.pcd";
-  } else {
-    root_points.resize(static_cast<std::size_t>(w) * h);
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u)
-        root_points[v * w + u] =
-            reproject_disparity(camera, record.root_from_camera, u, v, view.disparity.at<std::uint8_t>(v, u));
-    result.points_source = "disparity reprojection (approximate)";
-  }
+  const std::vector<Vec3> root_points = view_root_points(camera, record, view);
+  result.points_source = view.points.empty() ? "disparity reprojection (approximate)" : "points.pcd";
   if (config.edge_radius_px > 0) {
     mask = mask.clone();  // the view's blob stays as read
     result.edge_pixels = drop_depth_edges(mask, pixel_disparities(camera, record.root_from_camera, view, root_points),
@@ -150,11 +204,6 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
   const Eigen::Matrix3d rotation = hand_from_root.topLeftCorner<3, 3>();
   const Vec3 translation = hand_from_root.topRightCorner<3, 1>();
-  Vec3 box_min = config.box_min, box_max = config.box_max;
-  if (session.hand == "left") {
-    box_min.z() = -config.box_max.z();
-    box_max.z() = -config.box_min.z();
-  }
   PointCloud kept;
   kept.frame = "hand";
   for (int v = 0; v < h; ++v)
@@ -163,7 +212,7 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
       if (!mask.data[i] || !root_points[i].allFinite()) continue;
       ++result.points_3d;
       const Vec3 p = rotation * root_points[i] + translation;
-      if ((p.array() < box_min.array()).any() || (p.array() > box_max.array()).any()) continue;
+      if (!within_box(p, session, config)) continue;
       ++result.in_box;
       if (p.norm() <= config.hand_radius) continue;
       kept.points.push_back(p);

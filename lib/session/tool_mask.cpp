@@ -5,9 +5,12 @@
 
 namespace toolinc {
 
-cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& blob, const ToolMaskConfig& config) {
+cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& blob, const ToolMaskConfig& config,
+                  const cv::Mat& background) {
   if (left_bgr.type() != CV_8UC3 || blob.type() != CV_8UC1 || left_bgr.size() != blob.size())
-    throw std::invalid_argument("tool_mask: needs a BGR image and a one-channel blob of the same size");
+    throw std::invalid_argument("tool_mask: needs a BGR image and a one-channel seed of the same size");
+  if (!background.empty() && (background.type() != CV_8UC1 || background.size() != blob.size()))
+    throw std::invalid_argument("tool_mask: the background must be one-channel, the image's size");
   cv::Mat mask = cv::Mat::zeros(blob.size(), CV_8UC1);
   const cv::Rect box = cv::boundingRect(blob);
   if (box.area() == 0) return mask;
@@ -24,9 +27,11 @@ cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& blob, const ToolMaskCo
   for (int v = 0; v < roi.height; ++v)
     for (int u = 0; u < roi.width; ++u) {
       const bool in_blob = on.at<std::uint8_t>(v, u) != 0;
-      labels.at<std::uint8_t>(v, u) =
-          in_blob ? (inside.at<float>(v, u) > config.band_px ? cv::GC_FGD : cv::GC_PR_FGD)
-                  : (outside.at<float>(v, u) <= config.surround_px ? cv::GC_PR_BGD : cv::GC_BGD);
+      const bool known_background = !background.empty() && background.at<std::uint8_t>(v + roi.y, u + roi.x) != 0;
+      labels.at<std::uint8_t>(v, u) = in_blob ? (inside.at<float>(v, u) > config.band_px ? cv::GC_FGD : cv::GC_PR_FGD)
+                                      : known_background || outside.at<float>(v, u) > config.surround_px
+                                          ? cv::GC_BGD
+                                          : cv::GC_PR_BGD;
     }
   cv::Mat background_model, foreground_model;
   // GrabCut seeds its colour models by k-means from OpenCV's per-thread generator: a fixed seed makes a
@@ -38,7 +43,8 @@ cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& blob, const ToolMaskCo
   cv::grabCut(left_bgr(roi), labels, cv::Rect(), background_model, foreground_model, config.iterations,
               cv::GC_INIT_WITH_MASK);
   generator = callers;
-  cv::Mat tool = ((labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD)) & on;
+  cv::Mat tool = (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
+  if (!config.grow) tool &= on;
   tool.copyTo(mask(roi));
   return mask;
 }

@@ -250,15 +250,17 @@ void set_blob(const cv::Mat& mask, ViewData& data, std::optional<BlobInfo>& blob
   data.blob = mask;
 }
 
-cv::Mat hand_and_tool_mask(const Render& render) {
+cv::Mat surface_mask(const Render& render, bool with_hand) {
   cv::Mat mask = cv::Mat::zeros(render.height, render.width, CV_8UC1);
   for (int v = 0; v < render.height; ++v)
     for (int u = 0; u < render.width; ++u) {
       const Surface s = render.surface[static_cast<std::size_t>(v) * render.width + u];
-      if (s == Surface::hand || s == Surface::tool) mask.at<uchar>(v, u) = 255;
+      if (s == Surface::tool || (with_hand && s == Surface::hand)) mask.at<uchar>(v, u) = 255;
     }
   return mask;
 }
+
+cv::Mat hand_and_tool_mask(const Render& render) { return surface_mask(render, true); }
 
 cv::Mat camera_image(const Render& render, double noise, Rng& rng) {
   cv::Mat image(render.height, render.width, CV_8UC3);
@@ -325,9 +327,10 @@ ViewData observe_stereo(const Render& left, const Render& right, const SessionSi
 }
 
 ViewData record_view(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
-                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng,
-                     std::optional<BlobInfo>& blob) {
+                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob,
+                     cv::Mat* true_tool_mask) {
   const Render left = render_scene(config, model, hand, root_from_hand, root_from_camera);
+  if (true_tool_mask) *true_tool_mask = surface_mask(left, false);
   if (config.stereo == StereoModel::ideal) return observe(left, config, root_from_camera, rng, blob);
   Pose root_from_right = root_from_camera;
   root_from_right.topRightCorner<3, 1>() += config.camera.baseline * root_from_camera.topLeftCorner<3, 1>();

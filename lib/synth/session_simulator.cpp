@@ -180,7 +180,9 @@ SimulatedSession simulate_session(const SessionSimulatorConfig& config) {
     const double stamp = 2.0 * static_cast<double>(i);  // s: a move and the 1 s wait per pose
     record.stamps = {{"hand", stamp}, {"left", stamp}, {"disparity", stamp}};
 
-    session.views.push_back(record_view(config, model, hand_model, root_from_hand, root_from_camera, rng, record.blob));
+    session.true_tool_masks.emplace_back();
+    session.views.push_back(record_view(config, model, hand_model, root_from_hand, root_from_camera, rng, record.blob,
+                                        &session.true_tool_masks.back()));
     info.views.push_back(std::move(record));
     session.true_root_from_hand.push_back(root_from_hand);
   }

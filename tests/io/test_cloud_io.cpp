@@ -412,7 +412,7 @@ TEST_F(CloudIo, PcdBinaryCompressedLargeCloudFromLiblzf) {
   expect_read_error(write("cut.pcd", compressed_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n", n, raw, cut)), "corrupt");
 }
 
-// Regression (issue 19): SIZE x COUNT wrapping to 0 or a few bytes gave a division by zero, reads past
+// Regression: SIZE x COUNT wrapping to 0 or a few bytes gave a division by zero, reads past
 // the buffer and, for one binary file, a cloud made up from nothing.
 TEST_F(CloudIo, PcdRecordWidthOverflowIsAnInputError) {
   const std::string tail = "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n" + std::string(64, '\x01');

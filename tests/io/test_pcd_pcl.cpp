@@ -1,5 +1,5 @@
 // PCD files written by PCL itself (pcl::io, every encoding, a non-trivial VIEWPOINT) read identically by
-// toolinc's reader (issue 17's PCD paragraph): points, colours, normals and the sensor origin.
+// toolinc's reader: points, colours, normals and the sensor origin.
 #include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>

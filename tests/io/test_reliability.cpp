@@ -1,6 +1,6 @@
-// Issue 19's findings, each with the bytes that triggered it: JSON nesting and numbers, session paths
-// outside the session, crop-cloud --all's all-or-nothing output, a viewpoint inside the cloud, and
-// writes that survive a writer killed between write and rename.
+// Hostile inputs found by review and fuzzing, each with the bytes that triggered it: JSON nesting and numbers, session
+// paths outside the session, crop-cloud --all's all-or-nothing output, a viewpoint inside the cloud, and writes that
+// survive a writer killed between write and rename.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>

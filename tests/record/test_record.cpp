@@ -1,4 +1,4 @@
-// The recorder (issue 6) without a robot: its core driven by the simulated backend, by fakes that time
+// The recorder without a robot: its core driven by the simulated backend, by fakes that time
 // out, never answer or are interrupted, and the `record` executable with --backend sim, including a real
 // Ctrl-C. The waits all run on simulated time (except the SIGINT test, which must let a process run).
 #include <fcntl.h>

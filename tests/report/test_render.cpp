@@ -1,4 +1,4 @@
-// render (issue 7): a generated tool with a frame and tooltip drawn headless; axis colours at the axes'
+// render: a generated tool with a frame and tooltip drawn headless; axis colours at the axes'
 // projected ends, the tooltip marker at the tooltip, deterministic bytes, and clean failures on bad input;
 // a model drawn where a tool_pose places it; a session's contact sheet.
 #include <gtest/gtest.h>
@@ -295,6 +295,7 @@ TEST(Render, ContactSheetOfASimulatedSession) {
     // The blob's outline lies on the mask's border, its box around it.
     EXPECT_GT(count(left, kSheetBlobOutline), 50);
     EXPECT_GT(count(left, kSheetBlobBox), 50);
+    EXPECT_GT(count(left, kSheetToolMask), 50);
     // The disparity in colour: valid pixels are not grey.
     cv::Mat channels[3];
     cv::split(disparity, channels);
@@ -319,8 +320,11 @@ TEST(Render, ContactSheetOfASimulatedSession) {
       run_tool("render", "-q --session " + session.string() + config + " -o " + (dir / "c.png").string()).exit_code, 0);
   EXPECT_EQ(slurp(sheet), slurp(dir / "c.png"));
 
-  // A view whose crop fails says so on the sheet; the others are still drawn.
+  // A view whose crop fails (no blob, and no disparity to follow the tool out of the hand on) says so on
+  // the sheet; the others are still drawn.
   cv::imwrite((session / "views/001/blob.png").string(), cv::Mat::zeros(240, 320, CV_8UC1));
+  cv::imwrite((session / "views/001/disparity.png").string(), cv::Mat::zeros(240, 320, CV_8UC1));
+  fs::remove(session / "views/001/points.pcd");
   ASSERT_EQ(run_tool("render", "-q --session " + session.string() + " -o " + sheet.string()).exit_code, 0);
   const cv::Mat spoiled = cv::imread(sheet.string(), cv::IMREAD_COLOR);
   const auto crop_panel = [&](int v) {

@@ -1,4 +1,4 @@
-// report (issue 7): the HTML page of one session's pipeline outputs, parsed back: well-formed, the merge,
+// report: the HTML page of one session's pipeline outputs, parsed back: well-formed, the merge,
 // frame, tooltip and error tables hold the JSON inputs' numbers, the embedded images decode to the PNGs,
 // every input text is escaped, the same inputs give the same bytes, and a folder missing an input is a
 // clear error that leaves nothing behind.

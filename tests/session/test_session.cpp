@@ -309,7 +309,7 @@ TEST(Session, OrganisedPcdKeepsNanAndInteroperates) {
   expect_input_error([&] { read_organised_pcd(compressed, 2, 1); }, {compressed, "binary_compressed"});
 }
 
-// Regression (issue 19): the organised reader was a second parser whose length check underflowed on a
+// Regression: the organised reader was a second parser whose length check underflowed on a
 // header ending in "DATA binary" without a newline (and read ~900 KB past the buffer), and whose record
 // width wrapped on SIZE x COUNT. It is now the one PCD reader, so both are bad input.
 TEST(Session, OrganisedPcdTruncatedHeaderAndOverflowingCountsAreInputErrors) {

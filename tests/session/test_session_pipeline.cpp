@@ -68,6 +68,21 @@ TEST(SessionPipeline, BlobDetectionWithoutAMask) {
   EXPECT_GT(detected.cloud.size(), 0.8 * with_mask.cloud.size());
 }
 
+// Where neither a recorded nor a detected blob holds anything, the tool is followed out of the hand on the
+// disparity (view_tool_mask's seed): the crop holds about the points the blob's would.
+TEST(SessionPipeline, NoBlobAtAllToolFollowedOutOfTheHand) {
+  const SimulatedSession session = simulate_session(ideal_family_session(ToolFamily::rake, 5));
+  ViewData without_blob = session.views[1];
+  without_blob.blob.release();
+  CropConfig nothing_detected;
+  nothing_detected.blob.min_blob_size = nothing_detected.blob.max_blob_size + 1;
+  const CropResult with_mask = crop_view(session.info, session.info.views[1], session.views[1]);
+  const CropResult followed = crop_view(session.info, session.info.views[1], without_blob, nothing_detected);
+  EXPECT_EQ(followed.mask_source, "no blob: the tool followed out of the hand");
+  EXPECT_LT(median_nearest_distance(followed.cloud.points, with_mask.cloud.points), 0.002);
+  EXPECT_GT(followed.cloud.size(), 0.8 * with_mask.cloud.size());
+}
+
 TEST(SessionPipeline, EveryFamilyManySessions) {
   // Measured on 8 families x 10 grasps: the merged model and the tooltip from the whole pipeline. The
   // merge floors are the issue's; the tooltip floor is a regression floor below the 95 % (74 of

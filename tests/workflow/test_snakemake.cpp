@@ -1,4 +1,4 @@
-// The workflow at scale (issue 7): scripts/Snakefile runs every step on three simulated sessions with
+// The workflow at scale: scripts/Snakefile runs every step on three simulated sessions with
 // `snakemake --cores 2` and writes a summary table that agrees with the per-session results; the Slurm
 // profile is valid for this snakemake; progress lines appear on a terminal only. Snakemake is required
 // (CI installs it with scripts/install-deps.sh): without it these tests fail rather than skip.

@@ -1,5 +1,5 @@
 // The builtin appearance descriptor, which needs no model file. It looks at the tool's shape first, since
-// tools are often the same colour as one another (issue 18):
+// tools are often the same colour as one another:
 //  - the blob (the tool and the hand holding it) is put upright: its principal axis vertical, the end
 //    towards the image's top up (the camera looks at a tool held up, the hand below it), the head's side
 //    with the larger third moment across to the right (so a tool and its mirror image look alike);
@@ -33,8 +33,9 @@ namespace toolinc {
 
 // Which descriptor a classifier file's "builtin" extractor is: files without it predate the shape
 // descriptor (colour HOG and a hue histogram), earlier versions have other blocks (3: a depth block in
-// the camera frame); both are refused with a request to retrain.
-constexpr int kBuiltinDescriptorVersion = 6;
+// the camera frame) or other crops (6 and before: the disparity blob, hand included, where 7 has the tool's
+// mask); both are refused with a request to retrain.
+constexpr int kBuiltinDescriptorVersion = 7;
 
 struct BuiltinFeatureConfig {
   int size = 64;             // px side of the normalised window; a multiple of cell

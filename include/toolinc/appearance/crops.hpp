@@ -1,5 +1,5 @@
-// The image regions appearance learning looks at (original-method.md sect. 10, issue 5): the tool
-// blob's bounding box plus a margin on each side, clipped to the image, as the robot's bbdisp crops.
+// The image regions appearance learning looks at (original-method.md sect. 10): the tool's bounding box
+// plus a margin on each side, clipped to the image, as the robot's bbdisp crops around its blob.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,15 +32,15 @@ struct ViewCrop {
   std::size_t view = 0;
   cv::Rect box;                         // the crop in the left image, margin included
   cv::Mat image;                        // BGR
-  cv::Mat mask;                         // the blob in the crop (blob.png's), empty when the session has no blob.png
-  std::vector<Eigen::Vector3d> points;  // the blob's pixels with a disparity, in the hand frame (m; recorded poses)
+  cv::Mat mask;                         // the tool's mask in the crop; empty when the view has none
+  std::vector<Eigen::Vector3d> points;  // the mask's pixels with the tool's 3D point, in the hand frame (m)
 };
 
-// The crops of every view of a session (or only of `view`). The blob's bounding box comes from blob.png
-// where present (the tight box of the mask); otherwise from view.json's blob roi, which is dispBlobber's
-// box and already holds the detector's margin, so it is used as recorded. A view with neither is
-// skipped with a warning naming it. Throws InputError naming the file when `view` has neither or does
-// not exist, or when no view of the session has a blob.
+// The crops of every view of a session (or only of `view`): the box of the view's tool mask
+// (view_tool_mask, toolinc/session/crop.hpp) plus our margin; a view with no tool mask falls back to
+// view.json's blob roi, dispBlobber's box, which already holds the detector's margin, with no mask and no
+// points. A view with neither is skipped with a warning naming it. Throws InputError naming the file when
+// `view` has neither or does not exist, or when no view of the session has one.
 std::vector<ViewCrop> session_crops(const std::string& session_dir, const SessionInfo& session,
                                     std::optional<std::size_t> view = std::nullopt);
 

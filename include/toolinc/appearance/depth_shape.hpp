@@ -1,4 +1,4 @@
-// The tool's shape in 3D, from the blob's disparity, in the hand frame (issue 18): what the tool's head
+// The tool's shape in 3D, from the blob's disparity, in the hand frame: what the tool's head
 // spans about its handle does not change when the tool is turned about the handle, while its silhouette
 // does (a T-bar's bar seen edge-on is a stick in the image, still a bar in depth). The hand frame tells
 // which points are the hand (its known extent) and which end of the tool is the far one (away from it).
@@ -24,7 +24,7 @@ struct DepthShapeConfig {
   double handle_far = 0.16;   // m
   // After a first estimate, the band keeps only its points this close to the axis: a handle is 1-3 cm
   // thick, and what lies farther (a shovel's 10 cm blade reaching into the band, fingers, a view that
-  // sees the head's face and only a sliver of the handle) is not handle and would tilt it (issue 18:
+  // sees the head's face and only a sliver of the handle) is not handle and would tilt it (set 0's
   // shovels' axes 12-44 degrees off without it).
   double handle_trim = 0.02;  // m
   // The handle's line passes this close to the hand's origin: the fingers hold it, and the original's

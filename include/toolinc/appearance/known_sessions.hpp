@@ -1,4 +1,4 @@
-// The sessions a classifier was trained on, as points of the descriptor's depth block (issue 18): a tool
+// The sessions a classifier was trained on, as points of the descriptor's depth block: a tool
 // never seen often gets a fair score from the label whose head looks most like its own (a hook's from
 // the L-stick's), while its head, described about its handle, lies farther from every training session
 // of that label than another grasp of that tool would.

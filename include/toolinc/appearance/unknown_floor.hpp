@@ -1,4 +1,4 @@
-// The unknown-tool floor of a classifier, chosen on its own training data (issue 18): how the scores of
+// The unknown-tool floor of a classifier, chosen on its own training data: how the scores of
 // known tools seen in new grasps compare with those of tools never seen.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The recording on the robot (issue 6): for each exploration pose, move the hand holding the tool, fixate
+// The recording on the robot: for each exploration pose, move the hand holding the tool, fixate
 // the tool, wait for both motions to settle, drain stale messages, read fresh ones, ask the stereo module
 // for the exact 3D of the blob's box, and write the view. The session is written view by view
 // (session.json last), so whatever stops the recording - Ctrl-C, a timeout - leaves a consistent session

@@ -1,4 +1,4 @@
-// A contact sheet of a recorded session (issue 7, `render --session`): one row per view with the left
+// A contact sheet of a recorded session (`render --session`): one row per view with the left
 // image (the blob's outline and box drawn on it), the disparity in a colour map, and the tool's points as
 // crop-cloud keeps them, projected back into the left image. What to look at when a session's model is
 // wrong: a blob that misses the tool, holes in the disparity, a crop that kept the table.
@@ -19,6 +19,7 @@ struct ContactSheetOptions {
 // Colours (BGR) of the overlays, for tests.
 inline const cv::Scalar kSheetBlobOutline{255, 0, 255};  // magenta: rare in a scene, unlike green
 inline const cv::Scalar kSheetBlobBox{0, 255, 255};
+inline const cv::Scalar kSheetToolMask{255, 255, 0};  // cyan: the tool's silhouette (view_tool_mask)
 inline const cv::Scalar kSheetCropPoint{0, 140, 255};
 
 // Where the panels of a sheet are, for tests: view v's panel p (0 left, 1 disparity, 2 crop) is

@@ -1,4 +1,4 @@
-// Headless pictures of clouds in the hand frame (issue 7, `render`): three orthographic views (XY, XZ,
+// Headless pictures of clouds in the hand frame (`render`): three orthographic views (XY, XZ,
 // YZ of the hand frame) and one oblique view in a 2x2 grid, each cloud in its own colour and
 // depth-shaded (drawn far to near), the tool frame's axes from its origin (X red, Y green, Z blue), the
 // tooltip (a magenta circle with a cross), the hand frame origin, a scale bar in cm per panel and a

@@ -1,4 +1,4 @@
-// A session's report (issue 7, `report`): one self-contained HTML page (the PNGs embedded as data URIs,
+// A session's report (`report`): one self-contained HTML page (the PNGs embedded as data URIs,
 // no scripts, nothing fetched) with the renders, the merge table, the tool frame, the tooltip and, where
 // the session has a ground truth, the errors. Every text from the inputs is HTML-escaped; the same inputs
 // give the same bytes (no timestamps).

@@ -18,7 +18,14 @@ struct CropConfig {
   // hands' frames are mirror images about the body's midplane.
   Eigen::Vector3d box_min{0.0, -0.40, -0.20};
   Eigen::Vector3d box_max{0.40, 0.0, 0.20};
-  double hand_radius = 0.08;   // m: points this close to the hand origin are the hand's (exploration value)
+  double hand_radius = 0.08;  // m: points this close to the hand origin are the hand's (exploration value)
+  // m: no part of a held tool lies farther from the hand (the box's length); the tool's silhouette in the
+  // image is sought within this ball, whichever way the grasp turns the head.
+  double reach = 0.40;
+  // m: neighbouring pixels whose 3D points are closer than this lie on one surface, for following the tool
+  // out of the hand: two steps of the 8-bit disparity at arm's length (about 5 mm each at 45 cm), far
+  // less than the gap between a held tool and the table or wall behind it.
+  double surface_step = 0.01;
   int outlier_neighbors = 10;  // statistical outlier removal: k ...
   double outlier_std = 3.0;    // ... and the deviations allowed (the original's k 10, 3 sigma)
   int min_points = 300;        // fewer left is a failure (exit 3)
@@ -50,6 +57,29 @@ struct CropResult {
 // 3 px, but dropping 3 px also shaves the true tips: on 96 SGBM sessions the tooltip was within 20 mm in
 // 54 with 0 px, 61 with 2, 41 with 3), and the blob trimmed by the left image.
 CropConfig matched_stereo_crop();
+
+// The view's root-frame point of every pixel (row-major, NaN where there is none): the stereo module's
+// exact points where recorded, else reprojected from the 8-bit disparity.
+std::vector<Vec3> view_root_points(const CameraModel& camera, const ViewRecord& record, const ViewData& view);
+
+// Whether a hand-frame point lies where a held tool can be, however it is held: beyond the hand's radius
+// and within the tool's reach.
+bool within_reach(const Vec3& hand_point, const CropConfig& config = {});
+
+// The tool's silhouette in a view's left image (255 on it), for recognition and display. Seeded by the
+// pixels whose 3D points are within the tool's reach: those of the blob, when the view has one and they
+// meet it (the blob excludes the background; the reach, the hand), else those that a path of neighbours
+// less than surface_step apart in 3D joins to the hand's own pixels (3D points within hand_radius; the
+// table or a wall within reach is not joined), so a view whose blob detector found nothing is still
+// seen. The seed is then grown and trimmed by the left image (tool_mask with grow, config.mask's band and
+// surround), the hand's pixels held as background. `with_depth` is the part of the mask whose own 3D
+// points are the tool's (the seed it kept): a pixel the image added has the background's disparity, if
+// any. Both empty (all zero) when no seed is found.
+struct ViewToolMask {
+  cv::Mat mask, with_depth;
+};
+ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
+                            const CropConfig& config = {});
 
 // Throws MethodError when the mask is empty or fewer than min_points remain.
 CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const ViewData& view,

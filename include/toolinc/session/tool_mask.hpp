@@ -16,12 +16,18 @@ struct ToolMaskConfig {
   // right behind the tool, the same wall or table the fattening spread over.
   int surround_px = 20;
   int iterations = 4;  // of GrabCut's colour model and graph cut
+  // Whether the image may also add pixels around the seed (up to surround_px out): the tool's faces the
+  // matcher found no disparity on. Off, the mask only trims the seed's border band.
+  bool grow = false;
 };
 
-// The blob (CV_8UC1, non-zero on the blob) less the pixels of its border band that the left image (CV_8UC3,
-// BGR, the same size) shows to be background: GrabCut with the band as probable tool, the blob's interior as
-// tool, and its surroundings as probable background (the tool may reach out of the blob where the matcher
-// found no disparity) and beyond them background. 255 on the mask. An empty blob gives an empty mask.
-cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& blob, const ToolMaskConfig& config = {});
+// The seed (CV_8UC1, non-zero on the blob) less the pixels of its border band that the left image (CV_8UC3,
+// BGR, the same size) shows to be background, and with config.grow plus the pixels around it that the
+// image shows to be the tool's: GrabCut with the band as probable tool, the seed's interior as tool, its
+// surroundings as probable background (the tool may reach out of the seed where the matcher found no
+// disparity), and beyond them and on `background` (optional, the same size: pixels known not to be the
+// tool, such as the hand's) background. 255 on the mask. An empty seed gives an empty mask.
+cv::Mat tool_mask(const cv::Mat& left_bgr, const cv::Mat& seed, const ToolMaskConfig& config = {},
+                  const cv::Mat& background = {});
 
 }  // namespace toolinc

@@ -101,8 +101,10 @@ ViewData observe_stereo(const Render& left, const Render& right, const SessionSi
                         const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob);
 
 // One view as config.stereo says: the left render observed (ideal), or both eyes rendered and matched.
+// true_tool_mask, when given, receives the tool's own pixels in the left image (255; the hand's not).
 ViewData record_view(const SessionSimulatorConfig& config, const RenderModel& model, const Box& hand,
-                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob);
+                     const Pose& root_from_hand, const Pose& root_from_camera, Rng& rng, std::optional<BlobInfo>& blob,
+                     cv::Mat* true_tool_mask = nullptr);
 
 // The gaze: like lookAtTool, which refines the fixation from the image, the eye looks at the tool's
 // bounding-box centre and then twice re-aims at the centre of the tool's extent in the image, so the

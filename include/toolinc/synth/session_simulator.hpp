@@ -111,6 +111,7 @@ struct SimulatedSession {
   SessionInfo info;
   std::vector<ViewData> views;
   std::vector<Eigen::Matrix4d> true_root_from_hand;  // per view, without the kinematic and gross errors
+  std::vector<cv::Mat> true_tool_masks;              // per view, the tool's own pixels (255; not the hand's)
   Json ground_truth;                                 // also holds true_root_from_hand
 };
 
