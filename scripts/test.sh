@@ -32,13 +32,10 @@ if [ "${SLURM_CHECK:-1}" != 0 ]; then timed "slurm check" scripts/slurm-check.sh
 
 if [ "${SANITIZE:-1}" != 0 ]; then
   sanitize=${SANITIZE_BUILD_DIR:-build-sanitize}
-  SLOW_ACCURACY='^(ToolFrameAccuracy\.EveryFamilyManyGrasps|AlignPose\.AccuracyOverRandomGraspsOfEveryFamily|SessionPipeline\.EveryFamilyManySessions|MergeViews\.EveryFamilyWithKinematicError|AppearanceAccuracy\.OtherGraspsRecognisedWithBuiltinFeatures|ToolFrameAccuracy\.RealShapesManyGrasps|ToolMaskAccuracy\.CloserToTheTruthThanTheBlobOnMatchedStereo)$'
+  SLOW_ACCURACY='^(ToolFrameAccuracy\.EveryFamilyManyGrasps|AlignPose\.AccuracyOverRandomGraspsOfEveryFamily|SessionPipeline\.EveryFamilyManySessions|MergeViews\.EveryFamilyWithKinematicError|AppearanceAccuracy\.OtherGraspsRecognisedWithBuiltinFeatures|AppearanceAccuracy\.FamilyLeftOutAnsweredUnknown|ToolFrameAccuracy\.RealShapesManyGrasps|ToolMaskAccuracy\.CloserToTheTruthThanTheBlobOnMatchedStereo)$'
   # The install-and-examples test builds a second project against an install, and measure_script runs
   # the evaluate-* executables the accuracy loops already ran: the Release run covers both.
   SLOW_ACCURACY="$SLOW_ACCURACY|^package_install_and_examples$|^measure_script$"
-  # Leaving each family out trains twelve classifiers: past ctest's 600 s under the sanitizers on two cores.
-  # The other appearance accuracy tests run the same training and classifier here.
-  SLOW_ACCURACY="$SLOW_ACCURACY|^AppearanceAccuracy\.FamilyLeftOutAnsweredUnknown$"
   configure_sanitized() {
     cmake -S . -B "$sanitize" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14 \
       -DTOOLINC_SANITIZE=ON -DTOOLINC_BUILD_FUZZERS=ON -DTOOLINC_WARNINGS_AS_ERRORS=ON -DTOOLINC_BUILD_BENCHMARKS=OFF -DTOOLINC_BUILD_PYTHON=OFF >/dev/null
