@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "frame/free_space.hpp"
+#include "cloud/free_space.hpp"
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/point_cloud.hpp"
 

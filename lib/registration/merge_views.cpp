@@ -5,7 +5,11 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 
+#include "cloud/free_space.hpp"
+#include "toolinc/ann/kdtree.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
@@ -18,6 +22,42 @@ int accepted_views(const MergeResult& result) {
       std::count_if(result.views.begin(), result.views.end(), [](const ViewMerge& v) { return v.accepted; }));
 }
 
+// The accepted views' points, less those that are smear. At a depth edge stereo strings points along
+// the sensor's ray between the tool and what lies behind it. Another view, looking across that ray, sees
+// the tool farther on through where those points would be, and has no point near them: its own surface
+// there would have been seen by both. A point another view saw through but also saw (a thin part one
+// view resolves and another misses) stays. Counts the dropped points per view.
+Points drop_smear(const std::vector<PointCloud>& aligned, std::vector<ViewMerge>& merges, const MergeConfig& config) {
+  const double tolerance = config.see_through_tolerance;
+  std::vector<FreeSpace> depth_images;  // each accepted view's own
+  std::vector<std::unique_ptr<KdTree>> trees;
+  for (std::size_t v = 0; v < aligned.size(); ++v) {
+    const Points& points = merges[v].accepted ? aligned[v].points : Points{};
+    depth_images.emplace_back(points, aligned[v].viewpoints, 1.0, tolerance);
+    trees.push_back(std::make_unique<KdTree>(points));
+  }
+  const auto smear = [&](std::size_t a, const Vec3& p) {
+    bool seen_through = false;
+    for (std::size_t b = 0; b < aligned.size(); ++b) {
+      if (b == a) continue;
+      if (trees[b]->count_within(p, tolerance, 1) >= 1) return false;
+      seen_through = seen_through || depth_images[b].seen_through(p);
+    }
+    return seen_through;
+  };
+  Points kept;
+  for (std::size_t a = 0; a < aligned.size(); ++a) {
+    if (!merges[a].accepted) continue;
+    for (const auto& p : aligned[a].points) {
+      if (smear(a, p))
+        ++merges[a].smear_dropped;
+      else
+        kept.push_back(p);
+    }
+  }
+  return kept;
+}
+
 // Every view aligned in turn onto the growing model that starts as the first view.
 MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeConfig& config) {
   if (static_cast<int>(views[0].points.size()) < config.min_points)
@@ -25,6 +65,8 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
                                   config.min_points));
   MergeResult result;
   Points accumulated = views[0].points;
+  std::vector<PointCloud> aligned(views.size());  // the accepted views in the reference view's frame
+  aligned[0] = views[0];
   result.views.push_back({true,
                           "reference",
                           Eigen::Matrix4d::Identity(),
@@ -69,8 +111,9 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
     else {
       merge.accepted = true;
       merge.reason = "aligned";
-      const Points aligned = transform_points(views[v].points, icp.target_from_source);
-      accumulated.insert(accumulated.end(), aligned.begin(), aligned.end());
+      aligned[v].points = transform_points(views[v].points, icp.target_from_source);
+      aligned[v].viewpoints = transform_points(views[v].viewpoints, icp.target_from_source);
+      accumulated.insert(accumulated.end(), aligned[v].points.begin(), aligned[v].points.end());
     }
     result.views.push_back(merge);
     report_progress();
@@ -98,6 +141,7 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
   mean_frame.topRightCorner<3, 1>() = translation_sum / accepted;
   result.hand_from_reference = inverse(mean_frame);
   result.model.frame = "hand";
+  if (config.see_through_tolerance > 0) accumulated = drop_smear(aligned, result.views, config);
   result.model.points =
       remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference), config.voxel_size),
                       config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));

@@ -82,6 +82,10 @@ const std::vector<Parameter<MergeConfig>>& merge_parameters() {
        &M::clean_radius, 0, kOpen},
       {"clean-min-neighbors", "", "Fewer neighbours within clean-radius makes a point stray", &M::clean_min_neighbors,
        0, kClosed},
+      {"see-through-tolerance", "m",
+       "A view's point another view saw through by more than this (its ray met the tool farther on) is smear and "
+       "is dropped; 0: none",
+       &M::see_through_tolerance, 0, kClosed},
       {"max-iterations", "", "Iterations of each view's ICP", &nested<M, &M::icp, &I::max_iterations>, 0, kOpen},
       {"max-correspondence", "m", "ICP correspondence radius", &nested<M, &M::icp, &I::max_correspondence>, 0, kOpen},
       {"kernel-scale", "m", "Geman-McClure scale of the ICP (about 2 sigma of the noise)",

@@ -299,7 +299,8 @@ Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult
                        {"rotation_deg", m.rotation_deg}}},
                      {"inlier_ratio", m.inlier_ratio},
                      {"inlier_rmse_m", m.inlier_rmse},
-                     {"iterations", m.iterations}});
+                     {"iterations", m.iterations},
+                     {"smear_dropped", m.smear_dropped}});
   }
   return {{"type", "merge_report"},
           {"version", 1},

@@ -103,3 +103,47 @@ TEST(MergeViews, TooFewPoints) {
   EXPECT_FALSE(merged.views[1].accepted);
   EXPECT_NE(merged.views[1].reason.find("too few"), std::string::npos);
 }
+
+// Smear by what the other view saw: a plate seen by two cameras, and points that only the first view has,
+// floating 5 cm above the plate on its ray. The second camera sees the plate through them: dropped. The
+// same points seen by both views are a real part (a thin one the first resolves): kept. Without
+// viewpoints there is nothing to test against: kept.
+TEST(MergeViews, PointsAnotherViewSawThroughAreSmear) {
+  Points plate;
+  for (int i = -25; i <= 25; ++i)
+    for (int j = -25; j <= 25; ++j) plate.emplace_back(0.002 * i, 0.002 * j, 0.0);
+  Points floating;
+  for (int k = 0; k < 5; ++k) floating.emplace_back(0.0, 0.0, 0.04 + 0.005 * k);
+  const Vec3 first_camera(0.0, 0.0, 0.4), second_camera(0.2, 0.0, 0.4);
+  const auto view = [&](const Points& extra, const Vec3& camera) {
+    PointCloud cloud;
+    cloud.points = plate;
+    cloud.points.insert(cloud.points.end(), extra.begin(), extra.end());
+    cloud.viewpoints = {camera};
+    return cloud;
+  };
+  const auto merged_points = [](const std::vector<PointCloud>& views) {
+    MergeConfig config;
+    config.clean_min_neighbors = 0;  // the floating points are few: only the smear rule may drop them
+    const MergeResult merged = merge_views(views, config);
+    EXPECT_TRUE(merged.views[0].accepted && merged.views[1].accepted);
+    return std::make_pair(merged.model.points, merged.views[0].smear_dropped);
+  };
+  const auto above_plate = [](const Points& points) {
+    return std::count_if(points.begin(), points.end(), [](const Vec3& p) { return p.z() > 0.03; });
+  };
+
+  const auto [smeared, dropped] = merged_points({view(floating, first_camera), view({}, second_camera)});
+  EXPECT_EQ(above_plate(smeared), 0);
+  EXPECT_EQ(dropped, 5);
+
+  const auto [seen_by_both, none_dropped] =
+      merged_points({view(floating, first_camera), view(floating, second_camera)});
+  EXPECT_EQ(above_plate(seen_by_both), 5);
+  EXPECT_EQ(none_dropped, 0);
+
+  PointCloud first = view(floating, first_camera), second = view({}, second_camera);
+  first.viewpoints.clear();
+  second.viewpoints.clear();
+  EXPECT_EQ(above_plate(merged_points({first, second}).first), 5);
+}

@@ -2,7 +2,7 @@
 // known by construction.
 #include <gtest/gtest.h>
 
-#include "frame/free_space.hpp"
+#include "cloud/free_space.hpp"
 #include "frame/symmetry.hpp"
 
 namespace toolinc {

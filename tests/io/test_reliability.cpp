@@ -11,7 +11,7 @@
 #include <random>
 #include <thread>
 
-#include "frame/free_space.hpp"
+#include "cloud/free_space.hpp"
 #include "support/input_error_of.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/core/error.hpp"

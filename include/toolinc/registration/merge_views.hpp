@@ -14,15 +14,18 @@ namespace toolinc {
 
 struct MergeConfig {
   IcpConfig icp;
-  double voxel_size = 0.002;          // m: the model's grid (the original's 2 mm)
-  double registration_voxel = 0.004;  // m: views are resampled this coarsely for ICP (speed; the fit
-                                      //    is to the model's 2 mm surface all the same)
-  double max_translation = 0.10;      // m per axis: the original's feasibility check
-  double max_rotation_deg = 20.0;     // the original checks none, and so accepts flipped views
-  double min_inlier_ratio = 0.4;      // share of a view's points that must land on the model
-  int min_points = 300;               // a view with fewer points is rejected (the original's floor)
-  double clean_radius = 0.01;         // m: stray points with fewer than clean_min_neighbors within
-  int clean_min_neighbors = 20;       //    clean_radius are removed at the end (the original's values)
+  double voxel_size = 0.002;             // m: the model's grid (the original's 2 mm)
+  double registration_voxel = 0.004;     // m: views are resampled this coarsely for ICP (speed; the fit
+                                         //    is to the model's 2 mm surface all the same)
+  double max_translation = 0.10;         // m per axis: the original's feasibility check
+  double max_rotation_deg = 20.0;        // the original checks none, and so accepts flipped views
+  double min_inlier_ratio = 0.4;         // share of a view's points that must land on the model
+  int min_points = 300;                  // a view with fewer points is rejected (the original's floor)
+  double clean_radius = 0.01;            // m: stray points with fewer than clean_min_neighbors within
+  int clean_min_neighbors = 20;          //    clean_radius are removed at the end (the original's values)
+  double see_through_tolerance = 0.005;  // m: a view's point that another view saw through, nearer to that
+                                         //    view than the tool it saw there by more than this (depth noise
+                                         //    and registration residual), is smear and is dropped; 0: none
   // Called after each view with (views done, views in all); none by default. A merge of many views takes
   // minutes, so the executable shows this on a terminal (toolinc/app/progress.hpp).
   std::function<void(std::size_t done, std::size_t total)> progress;
@@ -37,6 +40,7 @@ struct ViewMerge {
   double inlier_ratio = 0.0, inlier_rmse = 0.0;
   int iterations = 0;
   int points = 0;
+  int smear_dropped = 0;  // of its points, dropped as smear: another view saw through them and none saw them
 };
 
 struct MergeResult {

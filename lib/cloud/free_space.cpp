@@ -1,4 +1,4 @@
-#include "frame/free_space.hpp"
+#include "cloud/free_space.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -54,16 +54,18 @@ bool FreeSpace::pixel(const View& view, const Vec3& q, int& u, int& v) {
   return u >= 0 && v >= 0 && u < view.size && v < view.size;
 }
 
-bool FreeSpace::seen_from(const View& view, const Vec3& p) const {
+bool FreeSpace::depths(const View& view, const Vec3& p, double& depth, double& nearest) const {
   const Vec3 q = view.camera_from_cloud * (p - view.origin);
   int u, v;
   if (!pixel(view, q, u, v) || u < 1 || v < 1 || u >= view.size - 1 || v >= view.size - 1) return false;
   // The nearest surface around the pixel: points are sparse, so a single pixel may show a hole.
-  float nearest = std::numeric_limits<float>::infinity();
+  float near = std::numeric_limits<float>::infinity();
   for (int dv = -1; dv <= 1; ++dv)
     for (int du = -1; du <= 1; ++du)
-      nearest = std::min(nearest, view.depth[static_cast<std::size_t>(v + dv) * view.size + u + du]);
-  return q.z() <= nearest + tolerance_;
+      near = std::min(near, view.depth[static_cast<std::size_t>(v + dv) * view.size + u + du]);
+  depth = q.z();
+  nearest = near;
+  return true;
 }
 
 std::size_t FreeSpace::pixels() const {
@@ -74,8 +76,16 @@ std::size_t FreeSpace::pixels() const {
 
 bool FreeSpace::seen(const Vec3& p) const {
   if (views_.empty()) return true;
+  double depth, nearest;
   for (const auto& view : views_)
-    if (seen_from(view, p)) return true;
+    if (depths(view, p, depth, nearest) && depth <= nearest + tolerance_) return true;
+  return false;
+}
+
+bool FreeSpace::seen_through(const Vec3& p) const {
+  double depth, nearest;
+  for (const auto& view : views_)
+    if (depths(view, p, depth, nearest) && std::isfinite(nearest) && depth < nearest - tolerance_) return true;
   return false;
 }
 

@@ -24,6 +24,11 @@ class FreeSpace {
   // tolerance. Always true without viewpoints (everything counts as seen).
   bool seen(const Vec3& p) const;
 
+  // True when some viewpoint looked through p: in its view, nearer to it by more than the tolerance than
+  // anything it saw there. A point another sensor saw through is not on the tool: smear strung along
+  // the first sensor's ray. False without viewpoints.
+  bool seen_through(const Vec3& p) const;
+
   std::size_t views() const { return views_.size(); }  // viewpoints used
   std::size_t pixels() const;                          // over all depth images: their memory, in floats
 
@@ -35,7 +40,9 @@ class FreeSpace {
     int size = 0;
     std::vector<float> depth;  // size x size, +inf where nothing was seen
   };
-  bool seen_from(const View& view, const Vec3& p) const;
+  // The depth of p along the view's axis and the nearest depth the view saw around p's pixel (+inf where
+  // it saw nothing); false when p is off the view's image.
+  bool depths(const View& view, const Vec3& p, double& depth, double& nearest) const;
   static bool pixel(const View& view, const Vec3& q, int& u, int& v);
   std::vector<View> views_;
   double tolerance_;
