@@ -66,6 +66,7 @@ void read_merge_report(const std::string& path, SessionReport& report) {
     row.rotation_deg = get<double>(json, v + "correction/rotation_deg", path);
     row.inlier_ratio = get<double>(json, v + "inlier_ratio", path);
     row.inlier_rmse_m = get<double>(json, v + "inlier_rmse_m", path);
+    row.smear_dropped = get_optional<int>(json, v + "smear_dropped", path);
     report.views.push_back(row);
   }
 }
@@ -129,22 +130,23 @@ std::string merge_section(const SessionReport& r) {
   html +=
       "<table id=\"merge\">\n<thead><tr><th>#</th><th class=\"text\">view</th><th class=\"text\">status</th>"
       "<th>points</th><th>correction x (mm)</th><th>y (mm)</th><th>z (mm)</th><th>rotation (deg)</th>"
-      "<th>on the model (%)</th><th>RMS (mm)</th><th class=\"text\">why</th></tr></thead>\n<tbody>\n";
+      "<th>on the model (%)</th><th>RMS (mm)</th><th>smear dropped</th><th class=\"text\">why</th></tr></thead>\n"
+      "<tbody>\n";
   for (std::size_t i = 0; i < r.views.size(); ++i) {
     const ReportView& v = r.views[i];
     const char* status = v.accepted ? "accepted" : "rejected";
     html += fmt::format(
         "<tr class=\"{}\"><td>{}</td><td class=\"text\" title=\"{}\">{}</td><td class=\"text status\">{}</td>"
-        "<td>{}</td>{}<td>{:.2f}</td><td>{:.1f}</td><td>{:.2f}</td><td class=\"text\">{}</td></tr>\n",
+        "<td>{}</td>{}<td>{:.2f}</td><td>{:.1f}</td><td>{:.2f}</td><td>{}</td><td class=\"text\">{}</td></tr>\n",
         status, i, e(v.file), e(fs::path(v.file).filename().string()), status, v.points,
         vector_cells(1000.0 * v.translation_m, 1), v.rotation_deg, 100.0 * v.inlier_ratio, 1000.0 * v.inlier_rmse_m,
-        e(v.reason));
+        v.smear_dropped ? std::to_string(*v.smear_dropped) : "-", e(v.reason));
   }
   return html + "</tbody>\n</table>\n" +
          fmt::format(
              "<p class=\"note\">The model has {} points (2 mm grid) in the hand frame estimated as the mean "
              "of the accepted views' frames. A correction is the view's model_from_view transform found by "
-             "ICP.</p>\n",
+             "ICP. Smear dropped: the view's points another view saw through and none saw.</p>\n",
              r.model_points);
 }
 

@@ -234,7 +234,7 @@ TEST_F(Report, TablesHoldTheJsonNumbers) {
     const Json& v = merge["views"][i];
     const auto& r = rows[i];
     SCOPED_TRACE("view " + std::to_string(i));
-    ASSERT_EQ(r.size(), 11u);
+    ASSERT_EQ(r.size(), 12u);
     EXPECT_EQ(number(r[0]), static_cast<double>(i));
     EXPECT_EQ(r[1], fs::path(v["file"].get<std::string>()).filename().string());
     EXPECT_EQ(r[2], v["accepted"].get<bool>() ? "accepted" : "rejected");
@@ -245,7 +245,8 @@ TEST_F(Report, TablesHoldTheJsonNumbers) {
     EXPECT_NEAR(number(r[7]), v["correction"]["rotation_deg"].get<double>(), 0.0051);
     EXPECT_NEAR(number(r[8]), 100 * v["inlier_ratio"].get<double>(), 0.051);
     EXPECT_NEAR(number(r[9]), 1000 * v["inlier_rmse_m"].get<double>(), 0.0051);
-    EXPECT_EQ(r[10], v["reason"].get<std::string>());
+    EXPECT_EQ(number(r[10]), v["smear_dropped"].get<int>());
+    EXPECT_EQ(r[11], v["reason"].get<std::string>());
   }
   EXPECT_GE(accepted, 3);
 
@@ -319,7 +320,7 @@ TEST_F(Report, EveryInputTextIsEscaped) {
   expect_well_formed(tokens);
   const auto rows = table_rows(tokens, "merge");
   ASSERT_GE(rows.size(), 2u);
-  EXPECT_EQ(rows[1][10], nasty);
+  EXPECT_EQ(rows[1][11], nasty);
   EXPECT_EQ(rows[1][1], "<img src=x onerror=1>.ply");
   std::string title;
   for (std::size_t i = 0; i + 1 < tokens.size(); ++i)

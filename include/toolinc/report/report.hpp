@@ -31,6 +31,7 @@ struct ReportView {
   int points = 0;
   Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
   double rotation_deg = 0, inlier_ratio = 0, inlier_rmse_m = 0;
+  std::optional<int> smear_dropped;  // absent from reports of versions before the smear rule
 };
 
 struct ReportErrors {
