@@ -5,7 +5,6 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
 
 #include "cloud/free_space.hpp"
@@ -29,12 +28,11 @@ int accepted_views(const MergeResult& result) {
 // view resolves and another misses) stays. Counts the dropped points per view.
 Points drop_smear(const std::vector<PointCloud>& aligned, std::vector<ViewMerge>& merges, const MergeConfig& config) {
   const double tolerance = config.see_through_tolerance;
-  std::vector<FreeSpace> depth_images;  // each accepted view's own
+  std::vector<FreeSpace> depth_images;  // each view's own; a rejected view has no points, so none
   std::vector<std::unique_ptr<KdTree>> trees;
-  for (std::size_t v = 0; v < aligned.size(); ++v) {
-    const Points& points = merges[v].accepted ? aligned[v].points : Points{};
-    depth_images.emplace_back(points, aligned[v].viewpoints, 1.0, tolerance);
-    trees.push_back(std::make_unique<KdTree>(points));
+  for (const auto& view : aligned) {
+    depth_images.emplace_back(view.points, view.viewpoints, 1.0, tolerance);
+    trees.push_back(std::make_unique<KdTree>(view.points));
   }
   const auto smear = [&](std::size_t a, const Vec3& p) {
     bool seen_through = false;
@@ -65,7 +63,8 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
                                   config.min_points));
   MergeResult result;
   Points accumulated = views[0].points;
-  std::vector<PointCloud> aligned(views.size());  // the accepted views in the reference view's frame
+  std::vector<PointCloud> aligned(views.size());  // the accepted views in the reference view's frame, the
+                                                  // rejected ones empty
   aligned[0] = views[0];
   result.views.push_back({true,
                           "reference",
