@@ -144,12 +144,10 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
   result.model.points =
       remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference), config.voxel_size),
                       config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
-  for (std::size_t v = 0; v < views.size(); ++v)
-    if (result.views[v].accepted) {
-      const Points moved =
-          transform_points(views[v].viewpoints, result.hand_from_reference * result.views[v].correction);
-      result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());
-    }
+  for (const auto& view : aligned) {
+    const Points moved = transform_points(view.viewpoints, result.hand_from_reference);
+    result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());
+  }
   return result;
 }
 
