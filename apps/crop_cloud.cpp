@@ -27,29 +27,10 @@ int main(int argc, char** argv) {
   toolinc::add_xyz_option(cli, "--box-min", box_min,
                           "Hand-frame crop box minimum x y z (m; right hand, mirrored in z for the left)");
   toolinc::add_xyz_option(cli, "--box-max", box_max, "Hand-frame crop box maximum x y z (m)");
-  cli.add_option("--hand-radius", config.hand_radius, "Points this close to the hand origin are the hand's (m)")
-      ->capture_default_str();
-  cli.add_option("--outlier-neighbors", config.outlier_neighbors, "Statistical outlier removal: k")
-      ->capture_default_str();
-  cli.add_option("--outlier-std", config.outlier_std, "Statistical outlier removal: deviations")->capture_default_str();
-  cli.add_option("--min-points", config.min_points, "Fewer points left is a failure (exit 3)")->capture_default_str();
   cli.add_flag("--image-mask", config.image_mask,
                "Trim the blob's border to the tool's edge in the left image (matched stereo fattens the blob past it)");
-  cli.add_option("--mask-band", config.mask.band_px,
-                 "px: with --image-mask, how far inside the blob's border the image may trim (the fattening's reach)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  cli.add_option("--mask-surround", config.mask.surround_px,
-                 "px: with --image-mask, the background's colours are learnt this far around the blob")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
   cli.add_flag("--flood", config.flood, "Keep only the region 3D-connected to the blob's centre");
-  cli.add_option("--edge-radius", config.edge_radius_px,
-                 "px: drop mask pixels this close to a depth edge (block-matched disparity: 2 for SFM's SGBM; 0 off)")
-      ->capture_default_str();
-  cli.add_option("--edge-jump", config.edge_jump_px, "px of disparity per pixel that make a depth edge")
-      ->capture_default_str();
-  cli.add_option("--flood-distance", config.flood_distance, "3D continuity of the flood (m)")->capture_default_str();
+  toolinc::add_crop_options(cli, config);
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");
   return command.run(argc, argv, [&] {
     config.box_min = Eigen::Vector3d(box_min[0], box_min[1], box_min[2]);

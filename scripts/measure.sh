@@ -8,7 +8,7 @@
 #                 file stem: hoe, hok, rak, sho, sti, ...), e.g. the original lab's 56 CAD models and its 5
 #                 real tools. Without it the models are generated, one per family.
 #   --models-name TEXT  what those models are, for the document (default: "the N models of MODELS")
-#   --quick       a small setting (1 grasp per family, benchmarks briefly) to check the script runs; its
+#   --quick       a small setting (1 grasp per family, benchmarks briefly, scaling to 30k points) to check the script runs; its
 #                 figures are too few to quote. CTest runs it (measure_script).
 #   --output FILE default docs/accuracy.md
 #   --build DIR   the build holding bin/ and bench/ (default build)
@@ -37,9 +37,9 @@ if [ -n "$models" ] && [ ! -d "$models" ]; then
 fi
 
 if [ $quick = 1 ]; then
-  grasps=1 any_grasps=1 model_grasps=2 model_sessions=1 bench_time=0.01
+  grasps=1 any_grasps=1 model_grasps=2 model_sessions=1 bench_time=0.01 bench_cases=1 bench_largest=30000
 else
-  grasps=16 any_grasps=10 model_grasps=20 model_sessions=5 bench_time=0.5
+  grasps=16 any_grasps=10 model_grasps=20 model_sessions=5 bench_time=0.5 bench_cases=10 bench_largest=1000000
 fi
 jobs=$(nproc)
 work=$(mktemp -d)
@@ -86,7 +86,7 @@ printf '%s\n' "--grasps $model_sessions" >"$work/poses.command"
 bench() {  # name, filter
   if [ -x "$build/bench/$1" ]; then
     step "$1 $2"
-    taskset -c 0 "$build/bench/$1" --benchmark_filter="$2" --benchmark_min_time=$bench_time \
+    TOOLINC_BENCH_CASES_PER_FAMILY=$bench_cases taskset -c 0 "$build/bench/$1" --benchmark_filter="$2" --benchmark_min_time=$bench_time \
       --benchmark_out="$work/$1.json" --benchmark_out_format=json >/dev/null 2>&1
   fi
 }
@@ -95,7 +95,7 @@ bench bench_session_pipeline 'BM_CropView|BM_MergeFiveViews|BM_WholePipeline'
 bench bench_align_pose 'BM_AlignPose'
 if [ -x "$build/bench/bench_peers" ]; then
   step "bench_peers"
-  taskset -c 0 "$build/bench/bench_peers" "$bench_time" >"$work/bench_peers.txt"
+  taskset -c 0 "$build/bench/bench_peers" "$bench_time" "$bench_largest" >"$work/bench_peers.txt"
 fi
 
 step "writing $output"

@@ -10,6 +10,7 @@
 #include "toolinc/frame/parameters.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/registration/parameters.hpp"
+#include "toolinc/session/parameters.hpp"
 
 namespace toolinc {
 
@@ -64,6 +65,10 @@ void add_merge_options(CLI::App& cli, MergeConfig& config) {
 
 void add_align_pose_options(CLI::App& cli, AlignPoseConfig& config) {
   add_parameter_options(cli, config, align_pose_parameters(), "Alignment");
+}
+
+void add_crop_options(CLI::App& cli, CropConfig& config) {
+  add_parameter_options(cli, config, crop_parameters(), "Cropping");
 }
 
 PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const AlignPoseConfig& config,

@@ -816,25 +816,6 @@ TEST(AppearanceFeatureDb, RoundTripIsExact) {
   EXPECT_TRUE(back.rows[0] == db.rows[0] && back.rows[1] == db.rows[3] && back.rows[4] == db.rows[2]);
 }
 
-TEST(AppearanceFeatureDb, RaggedRowsAndJunkNamed) {
-  const auto dir = scratch_dir("appearance-rows");
-  write_text(dir / "ragged.txt", "1 2 3\n\n4 5 6\n7 8\n");
-  write_text(dir / "junk.txt", "1 2 x3\n");
-  write_text(dir / "empty.txt", "\n \n");
-  for (const auto& [file, words] :
-       std::vector<std::pair<std::string, std::string>>{{"ragged.txt", "line 4: 2 values, but the first row has 3"},
-                                                        {"junk.txt", "line 1"},
-                                                        {"empty.txt", "no feature"}}) {
-    try {
-      read_feature_rows((dir / file).string());
-      ADD_FAILURE() << file << " accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find((dir / file).string()), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
-    }
-  }
-}
-
 // --- The dnn extractor ----------------------------------------------------------------------------------
 
 fs::path write_network(const fs::path& path, const RandomConvNet& net) {

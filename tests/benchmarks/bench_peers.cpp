@@ -424,7 +424,7 @@ double peak_rss_mb() {
 
 // Time of estimate-frame + find-tooltip, merge-views of five views and align-pose from 3k to 1M points,
 // and the exponent of a power law fitted to the times from 10k points up (below, fixed costs dominate).
-void scaling(const SessionSimulatorConfig& scene) {
+void scaling(const SessionSimulatorConfig& scene, std::size_t largest) {
   Rng rng(5);
   std::vector<Points> views;
   for (const auto& wrist : scene.poses) {
@@ -437,7 +437,10 @@ void scaling(const SessionSimulatorConfig& scene) {
   std::printf("\nscaling (one core; the process's peak memory after each size)\n");
   std::printf("  %9s  %14s  %16s  %14s  %8s\n", "points", "frame+tooltip", "merge 5 views", "align-pose", "peak MB");
   std::vector<double> log_n, log_time[3];
+  std::size_t last = 0;
   for (const std::size_t n : {3000, 10000, 30000, 100000, 300000, 1000000}) {
+    if (n > largest) break;
+    last = n;
     const Points cloud = densified(held, n, rng);
     std::vector<PointCloud> parts;
     for (const auto& view : views) parts.push_back({densified(view, n / views.size(), rng), {}, {}, "hand"});
@@ -461,14 +464,18 @@ void scaling(const SessionSimulatorConfig& scene) {
     }
     return sxy / sxx;
   };
-  std::printf("  %9s  %14.2f  %16.2f  %14.2f   (time ~ points^exponent, 10k-1M)\n", "exponent", slope(log_time[0]),
-              slope(log_time[1]), slope(log_time[2]));
+  std::printf("  %9s  %14.2f  %16.2f  %14.2f   (time ~ points^exponent, 10k-%s)\n", "exponent", slope(log_time[0]),
+              slope(log_time[1]), slope(log_time[2]),
+              last >= 1000000 ? "1M" : (std::to_string(last / 1000) + "k").c_str());
 }
 
 }  // namespace
 
+// bench_peers [MIN_TIME_S [LARGEST]]: each median over at least MIN_TIME_S (0.5) seconds of runs; the
+// scaling up to LARGEST points (1000000).
 int main(int argc, char** argv) {
   if (argc > 1) min_time_ms = 1000.0 * std::atof(argv[1]);
+  const std::size_t largest = argc > 2 ? static_cast<std::size_t>(std::atof(argv[2])) : 1000000;
 #ifdef _OPENMP
   omp_set_num_threads(1);
 #endif
@@ -507,6 +514,6 @@ int main(int argc, char** argv) {
   error.topRightCorner<3, 1>() = Vec3(0.003, -0.003, 0.0025);
   const Eigen::Matrix4d truth = held.grasp.inverse();  // model_from_view
   icp(model, view, truth, error * truth);
-  scaling(family_session(ToolFamily::hoe, 7));
+  scaling(family_session(ToolFamily::hoe, 7), largest);
   return 0;
 }

@@ -1,4 +1,4 @@
-// Point-cloud reading and writing: PLY and PCD variants, error messages, atomic writes.
+// Point-cloud reading and writing: PLY and PCD variants, atomic writes. Malformed files: test_malformed_files.cpp.
 #include <gtest/gtest.h>
 #include <lzf.h>
 #include <unistd.h>
@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/cloud_files.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -24,6 +25,10 @@ namespace toolinc {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::bytes_of;
+using testing::compressed_pcd;
+using testing::expect_read_error;
+using testing::u8;
 
 // A fresh folder per test, removed afterwards.
 class CloudIo : public ::testing::Test {
@@ -46,20 +51,6 @@ class CloudIo : public ::testing::Test {
 
   fs::path dir_;
 };
-
-// Binary encoders for hand-built files (explicit byte order, independent of the host).
-template <class T>
-std::string bytes_of(T value, bool big_endian = false) {
-  unsigned char raw[sizeof(T)];
-  std::memcpy(raw, &value, sizeof(T));
-  const std::uint16_t one = 1;
-  const bool host_big = *reinterpret_cast<const unsigned char*>(&one) == 0;
-  std::string out(reinterpret_cast<const char*>(raw), sizeof(T));
-  if (big_endian != host_big) std::reverse(out.begin(), out.end());
-  return out;
-}
-
-std::string u8(int value) { return std::string(1, static_cast<char>(value)); }
 
 // The test's own LZF compressor: greedy longest match within the 8 KiB window, literal runs otherwise.
 // liblzf's own compressor (Debian's liblzf, the library PCL's format comes from), so the reader is tested
@@ -84,18 +75,6 @@ void expect_point(const Vec3& actual, double x, double y, double z) {
   EXPECT_NEAR(actual.x(), x, 1e-6);
   EXPECT_NEAR(actual.y(), y, 1e-6);
   EXPECT_NEAR(actual.z(), z, 1e-6);
-}
-
-// Runs read_cloud expecting an InputError whose message names the file and contains `word`.
-void expect_read_error(const std::string& file, const std::string& word) {
-  try {
-    read_cloud(file);
-    ADD_FAILURE() << "no error reading " << file;
-  } catch (const InputError& error) {
-    const std::string message = error.what();
-    EXPECT_NE(message.find(file), std::string::npos) << message;
-    EXPECT_NE(message.find(word), std::string::npos) << message;
-  }
 }
 
 PointCloud sample_cloud() {
@@ -268,14 +247,6 @@ TEST_F(CloudIo, PcdBinaryWithCount33FieldAndOrganisedCloud) {
   EXPECT_EQ(cloud.colors[3], (Rgb{3, 6, 9}));
 }
 
-std::string compressed_pcd(const std::string& fields_header, std::size_t points, const std::string& raw,
-                           const std::string& compressed) {
-  return "VERSION 0.7\n" + fields_header + "WIDTH " + std::to_string(points) + "\nHEIGHT 1\nPOINTS " +
-         std::to_string(points) + "\nDATA binary_compressed\n" +
-         bytes_of(static_cast<std::uint32_t>(compressed.size())) + bytes_of(static_cast<std::uint32_t>(raw.size())) +
-         compressed;
-}
-
 TEST_F(CloudIo, PcdBinaryCompressedFieldByField) {
   // Structure of arrays as PCL writes it: all x, all y, all z, all rgb; the padding field "_" is absent.
   const int n = 50;
@@ -313,15 +284,6 @@ TEST_F(CloudIo, PcdBinaryCompressedHandMadeBackReference) {
   for (const Vec3& p : cloud.points) expect_point(p, 1, 1, 1);
 }
 
-TEST_F(CloudIo, PcdBinaryCompressedCorruptStreamIsAnInputError) {
-  const std::string one = bytes_of(1.0f);
-  // The back-reference reaches 8 bytes back when only 4 have been written.
-  const std::string bad = u8(3) + one + u8(0xe0) + u8(3) + u8(7);
-  const std::string raw(48, '\0');
-  expect_read_error(write("bad.pcd", compressed_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n", 4, raw, bad + bad + bad)),
-                    "corrupt");
-}
-
 TEST_F(CloudIo, NonFinitePointsAreDroppedAndCounted) {
   const std::string file = write("nan.ply",
                                  "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
@@ -343,54 +305,6 @@ TEST_F(CloudIo, NonFinitePointsAreDroppedAndCounted) {
   EXPECT_EQ(stats.non_finite_dropped, 1u);
 }
 
-TEST_F(CloudIo, MissingFileIsAnInputError) { expect_read_error(path("nope.ply"), "No such file"); }
-
-TEST_F(CloudIo, EmptyFileIsAnInputError) { expect_read_error(write("empty.ply", ""), "empty"); }
-
-TEST_F(CloudIo, GarbageFileIsAnInputError) {
-  expect_read_error(write("junk.ply", std::string("\x89PNG\r\n\x1a\n\0\0garbage", 18)), "not a PLY or PCD");
-}
-
-TEST_F(CloudIo, TruncatedBinaryPlyIsAnInputError) {
-  PointCloud cloud;
-  cloud.points.assign(10, Vec3(1, 2, 3));
-  write_ply(path("full.ply"), cloud);
-  const std::string bytes = read_file(path("full.ply"));
-  const std::string file = write("cut.ply", bytes.substr(0, bytes.size() - 20));
-  expect_read_error(file, "truncated");
-  expect_read_error(file, "expected 10 vertices, file ends at vertex 8");
-}
-
-TEST_F(CloudIo, BadPlyHeadersAreInputErrors) {
-  expect_read_error(write("noxyz.ply",
-                          "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                          "end_header\n1 2\n"),
-                    "no x/y/z");
-  expect_read_error(write("noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"), "end_header");
-  expect_read_error(write("fmt.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"), "format");
-  expect_read_error(write("elem.ply", "ply\nformat ascii 1.0\nelement vertex many\nend_header\n"), "element");
-  expect_read_error(write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n"),
-                    "quad");
-}
-
-TEST_F(CloudIo, BadAsciiNumberNamesTheLine) {
-  const std::string file = write("num.ply",
-                                 "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                                 "property float z\nend_header\n1 2 3\n4 five 6\n");
-  expect_read_error(file, "line 9");
-  expect_read_error(file, "five");
-}
-
-TEST_F(CloudIo, BadPcdHeadersAreInputErrors) {
-  expect_read_error(write("kind.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA foo\n"), "DATA");
-  expect_read_error(write("size.pcd", "FIELDS x y z\nSIZE 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 3\n"), "SIZE");
-  expect_read_error(write("width.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH lots\nDATA ascii\n"), "WIDTH");
-  expect_read_error(write("noxyz.pcd", "FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nDATA ascii\n1 2\n"), "no x/y/z");
-  expect_read_error(
-      write("short.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nDATA binary\n" + std::string(20, '\0')),
-      "truncated");
-}
-
 TEST_F(CloudIo, PcdBinaryCompressedLargeCloudFromLiblzf) {
   // 20000 points of smooth data: long back-references, literal runs and the 8 KB window all exercised.
   const int n = 20000;
@@ -410,32 +324,6 @@ TEST_F(CloudIo, PcdBinaryCompressedLargeCloudFromLiblzf) {
   std::string cut = lzf_compress(raw);
   cut.pop_back();
   expect_read_error(write("cut.pcd", compressed_pcd("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n", n, raw, cut)), "corrupt");
-}
-
-// Regression: SIZE x COUNT wrapping to 0 or a few bytes gave a division by zero, reads past
-// the buffer and, for one binary file, a cloud made up from nothing.
-TEST_F(CloudIo, PcdRecordWidthOverflowIsAnInputError) {
-  const std::string tail = "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n" + std::string(64, '\x01');
-  expect_read_error(write("count.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 4611686018427387904 1 1\n" + tail),
-                    "SIZE x COUNT");
-  expect_read_error(
-      write("pad.pcd", "FIELDS x y z _\nSIZE 4 4 4 1\nTYPE F F F U\nCOUNT 1 1 1 18446744073709551608\n" + tail),
-      "SIZE x COUNT");
-  const std::string compressed_tail =
-      "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary_compressed\n" + bytes_of(4u) + bytes_of(0u) + std::string(4, '\x01');
-  expect_read_error(
-      write("count_c.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 4611686018427387904 1\n" + compressed_tail),
-      "SIZE x COUNT");
-  expect_read_error(write("count_a.pcd",
-                          "FIELDS x y z\nSIZE 8 4 4\nTYPE F F F\nCOUNT 2305843009213693952 1 1\n"
-                          "WIDTH 1\nDATA ascii\n1 2 3\n"),
-                    "SIZE x COUNT");
-  // Absurd declared sizes are bad input before anything is allocated.
-  expect_read_error(write("huge.pcd",
-                          "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 18446744073709551615\nHEIGHT 1\n"
-                          "DATA binary\n" +
-                              std::string(24, '\0')),
-                    "more than the 10000000 a cloud may hold");
 }
 
 TEST_F(CloudIo, PcdViewpointIsCarriedAsTheCloudsViewpoint) {

@@ -18,6 +18,7 @@
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/registration/parameters.hpp"
+#include "toolinc/session/parameters.hpp"
 #include "toolinc/synth/partial_view.hpp"
 
 namespace toolinc {
@@ -196,6 +197,17 @@ TEST(ConfigDefaults, AlignPoseAndMergeParametersFollowTheirTables) {
   const std::string docs = slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md");
   expect_documented(docs, align_pose_parameters());
   expect_documented(docs, merge_parameters());
+}
+
+TEST(ConfigDefaults, CropParametersFollowTheirTable) {
+  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  const Json& crop = config.at("crop-cloud");
+  // The box and the image-mask switch, which are not numbers, first.
+  ASSERT_GE(crop.size(), 3u);
+  auto key = crop.begin();
+  for (const char* name : {"box-min", "box-max", "image-mask"}) EXPECT_EQ((key++).key(), name);
+  expect_section_is_the_table(crop, crop_parameters(), 3);
+  expect_documented(slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md"), crop_parameters());
 }
 
 }  // namespace

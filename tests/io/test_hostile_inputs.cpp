@@ -1,7 +1,7 @@
 // An outside tester's findings on hostile inputs, one test per finding, each with fixtures made here:
-// outputs that name an input, devices and FIFOs, sessions linked outside their folder, decompression
-// bombs and lying counts, absurd coordinates, non-finite options, ill-typed JSON, duplicated views,
-// temporary files of killed writers, and messages that must name the file.
+// outputs that name an input, devices and FIFOs, sessions linked outside their folder, absurd
+// coordinates, non-finite options, ill-typed JSON, duplicated views, temporary files of killed writers, and
+// messages that must name the file. Malformed and lying files of every reader: test_malformed_files.cpp.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -159,40 +159,6 @@ TEST(SessionLinks, AViewFolderOrImageLinkedOutsideTheSessionIsRefused) {
   EXPECT_NO_THROW(read_view((root / "s").string(), info, 0));
 }
 
-// --- decompression bombs and lying counts ----------------------------------------------------------
-
-std::string little_endian(std::uint32_t v) {
-  std::string bytes(4, '\0');
-  for (int i = 0; i < 4; ++i) bytes[i] = static_cast<char>((v >> (8 * i)) & 0xff);
-  return bytes;
-}
-
-TEST(CloudLimits, CompressedPcdPromisingTooManyPointsIsRefusedBeforeAllocating) {
-  const fs::path dir = scratch_dir("pcd_bomb");
-  const std::size_t points = kMaxCloudPoints + 1;
-  const std::uint32_t uncompressed = static_cast<std::uint32_t>(points * 12);
-  const std::uint32_t compressed = uncompressed / 80;  // passes the LZF ratio check
-  std::ofstream(dir / "bomb.pcd", std::ios::binary)
-      << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " << points << "\nHEIGHT 1\nPOINTS "
-      << points << "\nDATA binary_compressed\n"
-      << little_endian(compressed) << little_endian(uncompressed) << std::string(compressed, '\0');
-  const std::string message = input_error_of([&] { read_cloud((dir / "bomb.pcd").string()); });
-  EXPECT_NE(message.find("bomb.pcd: PCD header: 10000001 points, more than the 10000000 a cloud may hold"),
-            std::string::npos)
-      << message;
-}
-
-TEST(CloudLimits, PlyVertexCountBeyondTheLimitIsRefused) {
-  const fs::path dir = scratch_dir("ply_count");
-  std::ofstream(dir / "lie.ply", std::ios::binary)
-      << "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty uchar x\nproperty uchar y\n"
-         "property uchar z\nend_header\n"
-      << std::string(3000, '\1');
-  const std::string message = input_error_of([&] { read_cloud((dir / "lie.ply").string()); });
-  EXPECT_NE(message.find("lie.ply: PLY header: 4000000000 vertices, more than the 10000000"), std::string::npos)
-      << message;
-}
-
 // --- absurd coordinates ----------------------------------------------------------------------------
 
 TEST(CoordinateRange, CloudsBeyondThePhysicalRangeAreRefusedNamingTheFile) {
@@ -243,6 +209,18 @@ TEST(FiniteOptions, MergeViewsRefusesOptionsOutOfTheirRange) {
     const ToolRun run = run_tool("merge-views", q(kHoe) + " " + option + " -o " + q(dir / "m.ply"));
     expect_refused(run, option.substr(0, option.find('=')), {}, "");
     EXPECT_FALSE(fs::exists(dir / "m.ply")) << option;
+  }
+}
+
+// crop-cloud's options come from its parameter table, ranges included: no neighbours for the outlier
+// statistics, a negative hand ball or band is refused before the session is read.
+TEST(FiniteOptions, CropCloudRefusesOptionsOutOfTheirRange) {
+  const fs::path dir = scratch_dir("crop_ranges");
+  for (const std::string& option : {"--outlier-neighbors=0", "--outlier-std=0", "--hand-radius=-0.01", "--mask-band=-1",
+                                    "--mask-surround=0", "--flood-distance=0"}) {
+    const ToolRun run = run_tool("crop-cloud", q(dir / "no-session") + " " + option + " -o " + q(dir / "c.ply"));
+    expect_refused(run, option.substr(0, option.find('=')), {}, "");
+    EXPECT_FALSE(fs::exists(dir / "c.ply")) << option;
   }
 }
 

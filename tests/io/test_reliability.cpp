@@ -1,6 +1,6 @@
-// Hostile inputs found by review and fuzzing, each with the bytes that triggered it: JSON nesting and numbers, session
-// paths outside the session, crop-cloud --all's all-or-nothing output, a viewpoint inside the cloud, and writes that
-// survive a writer killed between write and rename.
+// Hostile inputs found by review and fuzzing, each with the bytes that triggered it: session paths outside the
+// session, crop-cloud --all's all-or-nothing output, a viewpoint inside the cloud, and writes that survive a
+// writer killed between write and rename. Malformed JSON (nesting, numbers): test_malformed_files.cpp.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -27,46 +27,6 @@ using namespace toolinc::testing;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string nested(std::size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
-
-TEST(JsonLimits, DepthAndSizeAreCheckedBeforeParsing) {
-  EXPECT_NO_THROW(parse_json("{\"a\": " + nested(kMaxJsonDepth - 1) + "}", "f.json"));
-  const std::string deep =
-      input_error_of([] { parse_json("{\"deep\": " + nested(50000) + ", \"type\": 1}", "f.json"); });
-  EXPECT_NE(deep.find("f.json: JSON nested more than 64 levels"), std::string::npos) << deep;
-  // Brackets inside strings (escaped quotes included) are text, not nesting.
-  EXPECT_NO_THROW(parse_json("{\"s\": \"\\\"" + std::string(1000, '[') + "\"}", "f.json"));
-  const std::string big = input_error_of([] { check_json_limits(std::string(kMaxJsonBytes + 1, ' '), "big.json"); });
-  EXPECT_NE(big.find("big.json: JSON of"), std::string::npos) << big;
-}
-
-TEST(JsonLimits, NumberOutOfRangeIsBadInputNamingTheFile) {
-  const std::string message = input_error_of([] { parse_json("{\"x\": 1e400}", "n.json"); });
-  EXPECT_NE(message.find("n.json: not valid JSON"), std::string::npos) << message;
-}
-
-// Through the tools: exit 2 and the file named, for each regression input of the issue.
-TEST(JsonLimits, ToolsAnswerExit2) {
-  const fs::path dir = scratch_dir("json_limits");
-  const fs::path cloud = fs::path(TOOLINC_SOURCE_DIR) / "data/held/hoe.ply";
-  const std::vector<std::string> bad = {"{\"type\": \"tool_frame\", \"version\": 1e400}",
-                                        "{\"deep\": " + nested(50000) + ", \"type\": \"tool_frame\"}"};
-  for (std::size_t i = 0; i < bad.size(); ++i) {
-    const fs::path frame = dir / ("frame" + std::to_string(i) + ".json");
-    std::ofstream(frame) << bad[i];
-    const ToolRun run =
-        run_tool("find-tooltip", cloud.string() + " --frame " + frame.string() + " -o " + (dir / "tip.json").string());
-    EXPECT_EQ(run.exit_code, 2) << run.err;
-    expect_failure_left_nothing(run, frame.string(), dir / "tip.json", dir);
-  }
-  const fs::path config = dir / "config.json";
-  std::ofstream(config) << "{\"samples\": " << nested(50000) << "}";
-  const ToolRun run =
-      run_tool("estimate-frame", cloud.string() + " -c " + config.string() + " -o " + (dir / "frame.json").string());
-  EXPECT_EQ(run.exit_code, 2) << run.err;
-  EXPECT_NE(run.err.find("nested"), std::string::npos) << run.err;
-}
 
 SimulatedSession small_session(std::uint32_t seed) { return simulate_session(family_session(ToolFamily::hoe, seed)); }
 
