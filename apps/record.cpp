@@ -90,27 +90,7 @@ int main(int argc, char** argv) {
                           "Where the other arm goes first (right-hand y, mirrored; m)");
   cli.add_flag("--no-other-arm", no_other_arm, "Leave the other arm where it is");
   toolinc::add_xyz_option(cli, "--first-guess", first_guess, "First fixation in the hand frame (m)");
-  cli.add_option("--gaze-iterations", config.gaze.refine_iterations, "Re-fixations from the blob, at most")
-      ->capture_default_str();
-  cli.add_option("--gaze-fraction", config.gaze.refine_fraction, "Fixate this far from the hand to the blob's far end")
-      ->capture_default_str();
-  cli.add_option("--gaze-tolerance-px", config.gaze.tolerance_px, "A target this close to the centre is fixated")
-      ->capture_default_str();
-  cli.add_option("--arm-timeout", config.arm_timeout, "s for the arm to reach a pose")->capture_default_str();
-  cli.add_option("--gaze-timeout", config.gaze_timeout, "s for the gaze to settle")->capture_default_str();
-  cli.add_option("--read-timeout", config.read_timeout, "s for a fresh message on a port or an RPC answer")
-      ->capture_default_str();
-  cli.add_option("--settle-time", config.settle_time, "s waited after the motions before reading")
-      ->capture_default_str();
-  cli.add_option("--attempts", config.attempts, "Reads of a view before giving up")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cli.add_option("--sfm-step", config.sfm_step, "Pixel step of the exact-3D query")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cli.add_option("--num-disparities", config.num_disparities, "The stereo module's (0: 96 at width <= 320, else 128)")
-      ->capture_default_str();
-  cli.add_option("--baseline", config.baseline, "Stereo baseline recorded with the camera (m)")->capture_default_str();
+  toolinc::add_record_options(cli, config);
   cli.add_option("--gaze-remote", yarp.gaze_remote, "Gaze controller")->capture_default_str();
   cli.add_option("--arm-remote", yarp.arm_remote,
                  "Cartesian controller (default /<robot>/cartesianController/<hand>_arm)");

@@ -9,6 +9,7 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/frame/parameters.hpp"
 #include "toolinc/io/cloud_io.hpp"
+#include "toolinc/record/parameters.hpp"
 #include "toolinc/registration/parameters.hpp"
 #include "toolinc/session/parameters.hpp"
 
@@ -69,6 +70,10 @@ void add_align_pose_options(CLI::App& cli, AlignPoseConfig& config) {
 
 void add_crop_options(CLI::App& cli, CropConfig& config) {
   add_parameter_options(cli, config, crop_parameters(), "Cropping");
+}
+
+void add_record_options(CLI::App& cli, RecordConfig& config) {
+  add_parameter_options(cli, config, record_parameters(), "Exploration");
 }
 
 PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const AlignPoseConfig& config,

@@ -17,6 +17,7 @@
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/record/parameters.hpp"
 #include "toolinc/registration/parameters.hpp"
 #include "toolinc/session/parameters.hpp"
 #include "toolinc/synth/partial_view.hpp"
@@ -158,10 +159,11 @@ namespace {
 // The parameter tables are the one source of every algorithm's parameters: the shipped
 // config's sections hold exactly their parameters, in their order, at their defaults, and the docs'
 // parameter table has a row for each, its default first.
+// skipped: keys before the table's (not numbers: a rule, a box, names); trailing: keys after it.
 template <class Config>
-void expect_section_is_the_table(const Json& section, const std::vector<Parameter<Config>>& table,
-                                 std::size_t skipped) {
-  ASSERT_EQ(section.size(), table.size() + skipped);
+void expect_section_is_the_table(const Json& section, const std::vector<Parameter<Config>>& table, std::size_t skipped,
+                                 std::size_t trailing = 0) {
+  ASSERT_EQ(section.size(), skipped + table.size() + trailing);
   auto key = section.begin();
   std::advance(key, skipped);
   for (const auto& p : table) {
@@ -208,6 +210,18 @@ TEST(ConfigDefaults, CropParametersFollowTheirTable) {
   for (const char* name : {"box-min", "box-max", "image-mask"}) EXPECT_EQ((key++).key(), name);
   expect_section_is_the_table(crop, crop_parameters(), 3);
   expect_documented(slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md"), crop_parameters());
+}
+
+TEST(ConfigDefaults, RecordParametersFollowTheirTable) {
+  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  const Json& record = config.at("record");
+  // The robot, the hand, the poses and positions first; the YARP ports and their timeout after.
+  ASSERT_GE(record.size(), 6u);
+  auto key = record.begin();
+  for (const char* name : {"robot", "hand", "poses", "hand-position", "other-arm-position", "first-guess"})
+    EXPECT_EQ((key++).key(), name);
+  expect_section_is_the_table(record, record_parameters(), 6, 9);
+  expect_documented(slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/running.md"), record_parameters());
 }
 
 }  // namespace

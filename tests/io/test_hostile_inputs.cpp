@@ -212,15 +212,21 @@ TEST(FiniteOptions, MergeViewsRefusesOptionsOutOfTheirRange) {
   }
 }
 
-// crop-cloud's options come from its parameter table, ranges included: no neighbours for the outlier
-// statistics, a negative hand ball or band is refused before the session is read.
-TEST(FiniteOptions, CropCloudRefusesOptionsOutOfTheirRange) {
-  const fs::path dir = scratch_dir("crop_ranges");
+// crop-cloud's and record's options come from their parameter tables, ranges included: no neighbours for
+// the outlier statistics, a negative hand ball, a zero timeout or no attempt is refused before anything runs.
+TEST(FiniteOptions, CropCloudAndRecordRefuseOptionsOutOfTheirRange) {
+  const fs::path dir = scratch_dir("table_ranges");
   for (const std::string& option : {"--outlier-neighbors=0", "--outlier-std=0", "--hand-radius=-0.01", "--mask-band=-1",
                                     "--mask-surround=0", "--flood-distance=0"}) {
     const ToolRun run = run_tool("crop-cloud", q(dir / "no-session") + " " + option + " -o " + q(dir / "c.ply"));
     expect_refused(run, option.substr(0, option.find('=')), {}, "");
     EXPECT_FALSE(fs::exists(dir / "c.ply")) << option;
+  }
+  for (const std::string& option : {"--attempts=0", "--read-timeout=0", "--gaze-fraction=1.5", "--settle-time=-1",
+                                    "--sfm-step=0", "--baseline=0"}) {
+    const ToolRun run = run_tool("record", "--backend sim -q " + option + " -o " + q(dir / "session"));
+    expect_refused(run, option.substr(0, option.find('=')), {}, "");
+    EXPECT_FALSE(fs::exists(dir / "session")) << option;
   }
 }
 

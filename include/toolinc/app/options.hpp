@@ -7,6 +7,7 @@
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
+#include "toolinc/record/recorder.hpp"
 #include "toolinc/registration/align_pose.hpp"
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
@@ -19,6 +20,7 @@ void add_tooltip_options(CLI::App& cli, TooltipConfig& config, std::string& rule
 void add_merge_options(CLI::App& cli, MergeConfig& config);
 void add_align_pose_options(CLI::App& cli, AlignPoseConfig& config);
 void add_crop_options(CLI::App& cli, CropConfig& config);
+void add_record_options(CLI::App& cli, RecordConfig& config);
 
 // An option of exactly three numbers (x y z), its default shown; it takes no more, so a positional
 // argument may follow it (`--box-max 0.4 0 0.2 SESSION`).

@@ -16,7 +16,7 @@ struct Parameter {
   // function returning it (`nested<Config, &Config::icp, &IcpConfig::max_iterations>`).
   using Field = std::variant<double Config::*, int Config::*, double& (*)(Config&), int& (*)(Config&)>;
   const char* name;
-  const char* unit;  // "m", "deg", or "" (a count, a share, a ratio)
+  const char* unit;  // "m", "deg", "px", "s", or "" (a count, a share, a ratio)
   const char* meaning;
   Field field;
   double min;  // the allowed range: [min, max], or (min, max] when min_exclusive
