@@ -83,6 +83,29 @@ Points near_half(const Points& cloud) {
   return near;
 }
 
+// The line of a handle whose points form no surface (a filled model, a noisy or half-seen handle): the
+// principal line of those of its points that lie within radial_factor times their median distance of it,
+// refitted until those points stay the same. A handle's points lie within its radius of its axis (a filled
+// disc's within 1.4 times their median distance); a remnant of the hand or a lobe of smear beside the handle
+// lies farther, and would tilt a line fitted through everything.
+Cylinder trimmed_line(const Points& points, double radial_factor, int iterations) {
+  PrincipalAxes fit = principal_axes(points);
+  std::vector<double> radial(points.size());
+  Points kept;
+  for (int iteration = 0; iteration < iterations; ++iteration) {
+    const Cylinder line{fit.centroid, fit.axes.col(0), 0.0, 0.0};
+    for (std::size_t i = 0; i < points.size(); ++i) radial[i] = radial_distance(line, points[i]);
+    const double limit = radial_factor * quantile(radial, 0.5);
+    Points next;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (radial[i] <= limit) next.push_back(points[i]);
+    if (next.size() < 10 || next == kept) break;
+    kept = std::move(next);
+    fit = principal_axes(kept);
+  }
+  return {fit.centroid, fit.axes.col(0), 0.0, 0.0};
+}
+
 // The major axis is tilted by a heavy head (7-26 degrees on hooks and L-shapes in the original), so
 // the handle axis is refitted from the handle's own points: those in the hand-side part of the tool's
 // length, less the hand_skip share at the hand end, that lie on the current handle cylinder. A
@@ -126,8 +149,8 @@ HandleFit fit_handle(const Points& cloud, const PrincipalAxes& start, const Tool
     const bool surface = inside <= config.handle_solid_fraction * within && refit.radius <= config.handle_max_radius;
     if (!surface) {
       // Not a surface (a filled model, or no handle cylinder to speak of): the points' own line.
-      const PrincipalAxes line = principal_axes(on_handle);
-      refit = {line.centroid, line.axes.col(0), quantile(radial, 0.5), refit.rms};
+      const Cylinder line = trimmed_line(on_handle, config.handle_radial_factor, config.handle_iterations);
+      refit = {line.point, line.axis, quantile(radial, 0.5), refit.rms};
     }
     if (refit.axis.dot(handle.axis) < 0) refit.axis = -refit.axis;
     const double change = std::acos(std::clamp(refit.axis.dot(handle.axis), -1.0, 1.0));
