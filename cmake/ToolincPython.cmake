@@ -27,6 +27,9 @@ endif()
 message(STATUS "toolinc: Python module ${TOOLINC_PYTHON} (TOOLINC_BUILD_PYTHON=${TOOLINC_BUILD_PYTHON})")
 
 if(TOOLINC_PYTHON)
+  # No link-time optimisation (pybind11's default): the module is one file over static libraries built
+  # without it, so LTO had nothing to inline across and cost a serial 7-partition link.
+  set(CMAKE_INTERPROCEDURAL_OPTIMIZATION OFF)
   pybind11_add_module(toolinc_python MODULE ${PROJECT_SOURCE_DIR}/python/toolinc_module.cpp)
   set_target_properties(toolinc_python PROPERTIES OUTPUT_NAME toolinc
                                                   LIBRARY_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/python)

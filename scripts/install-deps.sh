@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libpcl-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev
-  libgtest-dev libbenchmark-dev liblzf-dev
+  libgtest-dev libbenchmark-dev liblzf-dev ccache
   snakemake
   pybind11-dev python3-dev python3-numpy python3-pytest python3-jsonschema
   clang-14 libclang-rt-14-dev llvm-14 clang-format-14

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "support/files.hpp"
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "support/synthetic_cases.hpp"
 #include "toolinc/core/rigid.hpp"
@@ -145,7 +146,7 @@ TEST(FrameCli, ShippedConfigHoldsTheDefaults) {
   const auto dir = scratch_dir("frame-shipped-config");
   const auto held = make_held_tool(ToolFamily::hook, 9);
   write_ply((dir / "hook.ply").string(), as_cloud(held.observed));
-  const std::string config = std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json";
+  const std::string config = std::string(toolinc::testing::kSourceDir) + "/configs/icub.json";
   for (const std::string tool : {"estimate-frame", "find-tooltip"}) {
     const auto plain = run_tool(tool, (dir / "hook.ply").string() + " -o -");
     const auto configured = run_tool(tool, (dir / "hook.ply").string() + " -c " + config + " -o -");

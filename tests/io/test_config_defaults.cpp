@@ -10,6 +10,7 @@
 
 #include "support/files.hpp"
 #include "support/onnx_writer.hpp"
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/appearance/feature_db.hpp"
 #include "toolinc/core/random.hpp"
@@ -31,7 +32,7 @@ using testing::run_tool;
 using testing::scratch_dir;
 using testing::slurp;
 
-const std::string kConfig = " -c " + std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json";
+const std::string kConfig = " -c " + std::string(toolinc::testing::kSourceDir) + "/configs/icub.json";
 
 // Runs `tool args -o -` with and without the shipped config; both must succeed. Returns their stdout.
 std::pair<std::string, std::string> plain_and_configured(const std::string& tool, const std::string& args) {
@@ -183,37 +184,37 @@ void expect_documented(const std::string& docs, const std::vector<Parameter<Conf
 }
 
 TEST(ConfigDefaults, FrameAndTooltipParametersFollowTheirTables) {
-  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  const Json config = read_json(std::string(toolinc::testing::kSourceDir) + "/configs/icub.json");
   expect_section_is_the_table(config.at("estimate-frame"), tool_frame_parameters(), 0);
   ASSERT_EQ(config.at("find-tooltip").begin().key(), "rule");  // the rule, an enumeration, first
   expect_section_is_the_table(config.at("find-tooltip"), tooltip_parameters(), 1);
-  const std::string docs = slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md");
+  const std::string docs = slurp(std::string(toolinc::testing::kSourceDir) + "/docs/method.md");
   expect_documented(docs, tool_frame_parameters());
   expect_documented(docs, tooltip_parameters());
 }
 
 TEST(ConfigDefaults, AlignPoseAndMergeParametersFollowTheirTables) {
-  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  const Json config = read_json(std::string(toolinc::testing::kSourceDir) + "/configs/icub.json");
   expect_section_is_the_table(config.at("align-pose"), align_pose_parameters(), 0);
   expect_section_is_the_table(config.at("merge-views"), merge_parameters(), 0);
-  const std::string docs = slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md");
+  const std::string docs = slurp(std::string(toolinc::testing::kSourceDir) + "/docs/method.md");
   expect_documented(docs, align_pose_parameters());
   expect_documented(docs, merge_parameters());
 }
 
 TEST(ConfigDefaults, CropParametersFollowTheirTable) {
-  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  const Json config = read_json(std::string(toolinc::testing::kSourceDir) + "/configs/icub.json");
   const Json& crop = config.at("crop-cloud");
   // The box and the image-mask switch, which are not numbers, first.
   ASSERT_GE(crop.size(), 3u);
   auto key = crop.begin();
   for (const char* name : {"box-min", "box-max", "image-mask"}) EXPECT_EQ((key++).key(), name);
   expect_section_is_the_table(crop, crop_parameters(), 3);
-  expect_documented(slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/method.md"), crop_parameters());
+  expect_documented(slurp(std::string(toolinc::testing::kSourceDir) + "/docs/method.md"), crop_parameters());
 }
 
 TEST(ConfigDefaults, RecordParametersFollowTheirTable) {
-  const Json config = read_json(std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json");
+  const Json config = read_json(std::string(toolinc::testing::kSourceDir) + "/configs/icub.json");
   const Json& record = config.at("record");
   // The robot, the hand, the poses and positions first; the YARP ports and their timeout after.
   ASSERT_GE(record.size(), 6u);
@@ -221,7 +222,7 @@ TEST(ConfigDefaults, RecordParametersFollowTheirTable) {
   for (const char* name : {"robot", "hand", "poses", "hand-position", "other-arm-position", "first-guess"})
     EXPECT_EQ((key++).key(), name);
   expect_section_is_the_table(record, record_parameters(), 6, 9);
-  expect_documented(slurp(std::string(TOOLINC_SOURCE_DIR) + "/docs/running.md"), record_parameters());
+  expect_documented(slurp(std::string(toolinc::testing::kSourceDir) + "/docs/running.md"), record_parameters());
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "support/input_error_of.hpp"
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
@@ -29,8 +30,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kHoe = fs::path(TOOLINC_SOURCE_DIR) / "data/held/hoe.ply";
-const fs::path kHoeTruth = fs::path(TOOLINC_SOURCE_DIR) / "data/held/hoe.truth.json";
+const fs::path kHoe = fs::path(toolinc::testing::kSourceDir) / "data/held/hoe.ply";
+const fs::path kHoeTruth = fs::path(toolinc::testing::kSourceDir) / "data/held/hoe.truth.json";
 
 std::string q(const fs::path& path) { return "'" + path.string() + "'"; }
 
@@ -298,8 +299,8 @@ TEST(StaleTemps, ALaterWriteRemovesTheTemporaryFilesOfWritersThatAreGone) {
 // Over `ulimit -f` the write fails (EFBIG) rather than SIGXFSZ killing the tool: exit 2, nothing left.
 TEST(StaleTemps, AFileSizeLimitIsAWriteErrorThatLeavesNothing) {
   const fs::path dir = scratch_dir("file_size_limit");
-  const std::string command = "ulimit -f 1; " + std::string(TOOLINC_BIN_DIR) + "/estimate-frame -q " + q(kHoe) +
-                              " -o " + q(dir / "f.json") + " 2>" + q(dir.parent_path() / "xfsz.err");
+  const std::string command = "ulimit -f 1; " + std::string(toolinc::testing::kBinDir) + "/estimate-frame -q " +
+                              q(kHoe) + " -o " + q(dir / "f.json") + " 2>" + q(dir.parent_path() / "xfsz.err");
   const int status = std::system(command.c_str());
   ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal";
   EXPECT_EQ(WEXITSTATUS(status), 2) << slurp(dir.parent_path() / "xfsz.err");

@@ -13,6 +13,7 @@
 #include "support/cloud_files.hpp"
 #include "support/files.hpp"
 #include "support/input_error_of.hpp"
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/appearance/feature_db.hpp"
 #include "toolinc/core/error.hpp"
@@ -212,7 +213,7 @@ TEST(MalformedJson, NumberOutOfRangeIsBadInputNamingTheFile) {
 // Through the tools: exit 2 and the file named, nothing written.
 TEST(MalformedJson, ToolsAnswerExit2NamingTheFile) {
   const fs::path dir = scratch_dir("json_limits");
-  const fs::path cloud = fs::path(TOOLINC_SOURCE_DIR) / "data/held/hoe.ply";
+  const fs::path cloud = fs::path(toolinc::testing::kSourceDir) / "data/held/hoe.ply";
   const std::vector<std::string> bad = {"{\"type\": \"tool_frame\", \"version\": 1e400}",
                                         "{\"deep\": " + nested(50000) + ", \"type\": \"tool_frame\"}"};
   for (std::size_t i = 0; i < bad.size(); ++i) {

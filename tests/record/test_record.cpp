@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -349,7 +350,7 @@ TEST(RecordApp, CtrlCStopsTheRealProcess) {
   // Simulated waits are really waited (settle 2 s per pose), so the recording is still running when the
   // first view is listed; SIGINT then must end it with that session consistent.
   const auto dir = scratch_dir("record-sigint");
-  const std::string bin = std::string(TOOLINC_BIN_DIR) + "/record", out = (dir / "s").string();
+  const std::string bin = std::string(toolinc::testing::kBinDir) + "/record", out = (dir / "s").string();
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "support/files.hpp"
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
@@ -161,7 +162,8 @@ TEST(Render, SameInputSameBytes) {
   const std::string a = slurp(dir / "a.png"), b = slurp(dir / "b.png");
   EXPECT_EQ(a, b);
   // configs/icub.json's "render" section holds the defaults.
-  run = run_tool("render", args + (dir / "c.png").string() + " -c " + TOOLINC_SOURCE_DIR + "/configs/icub.json");
+  run = run_tool("render",
+                 args + (dir / "c.png").string() + " -c " + toolinc::testing::kSourceDir + "/configs/icub.json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(slurp(dir / "c.png"), a);
   const cv::Mat decoded = cv::imread((dir / "a.png").string(), cv::IMREAD_COLOR);
@@ -315,7 +317,7 @@ TEST(Render, ContactSheetOfASimulatedSession) {
   EXPECT_EQ(slurp(sheet), slurp(dir / "again.png"));
 
   // configs/icub.json's "render" section holds the defaults.
-  const std::string config = " -c " + std::string(TOOLINC_SOURCE_DIR) + "/configs/icub.json";
+  const std::string config = " -c " + std::string(toolinc::testing::kSourceDir) + "/configs/icub.json";
   ASSERT_EQ(
       run_tool("render", "-q --session " + session.string() + config + " -o " + (dir / "c.png").string()).exit_code, 0);
   EXPECT_EQ(slurp(sheet), slurp(dir / "c.png"));

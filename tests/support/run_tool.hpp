@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "support/paths.hpp"
+
 namespace toolinc::testing {
 
 struct ToolRun {
@@ -31,8 +33,8 @@ inline ToolRun run_tool(const std::string& tool, const std::string& args) {
   const auto dir = std::filesystem::temp_directory_path() / ("toolinc-run-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const auto out = dir / ("out" + std::to_string(counter)), err = dir / ("err" + std::to_string(counter++));
-  const std::string command = std::string(TOOLINC_BIN_DIR) + "/" + tool + " " + args + " >" + out.string() + " 2>" +
-                              err.string() + " </dev/null";
+  const std::string command = std::string(toolinc::testing::kBinDir) + "/" + tool + " " + args + " >" + out.string() +
+                              " 2>" + err.string() + " </dev/null";
   const int status = std::system(command.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
 }

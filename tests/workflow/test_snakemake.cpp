@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "support/files.hpp"
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "toolinc/app/progress.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -23,7 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kSnakefile = std::string(TOOLINC_SOURCE_DIR) + "/scripts/Snakefile";
+const std::string kSnakefile = std::string(toolinc::testing::kSourceDir) + "/scripts/Snakefile";
 
 // Runs a shell command, its output to `log`; returns the exit status.
 int shell(const std::string& command, const fs::path& log) {
@@ -55,7 +56,7 @@ TEST(Snakemake, ThreeSessionsAndTheSummary) {
               0);
   fs::remove(dir / "sessions/rake/ground_truth.json");  // as a recorded session: no errors to report
   const std::string config = " --directory " + dir.string() + " --config sessions=" + (dir / "sessions").string() +
-                             " out=" + (dir / "out").string() + " bin=" + TOOLINC_BIN_DIR;
+                             " out=" + (dir / "out").string() + " bin=" + toolinc::testing::kBinDir;
   ASSERT_EQ(shell("snakemake -s " + kSnakefile + " --cores 2" + config, dir / "run.log"), 0) << slurp(dir / "run.log");
 
   std::istringstream csv(slurp(dir / "out/summary.csv"));
@@ -112,10 +113,10 @@ TEST(Snakemake, ThreeSessionsAndTheSummary) {
 
   // The Slurm profile parses for this snakemake and gives the merge its own resources (dry run: nothing
   // is submitted).
-  ASSERT_EQ(
-      shell("snakemake -s " + kSnakefile + " --profile " + TOOLINC_SOURCE_DIR + "/scripts/slurm -n --forceall" + config,
-            dir / "slurm.log"),
-      0)
+  ASSERT_EQ(shell("snakemake -s " + kSnakefile + " --profile " + toolinc::testing::kSourceDir +
+                      "/scripts/slurm -n --forceall" + config,
+                  dir / "slurm.log"),
+            0)
       << slurp(dir / "slurm.log");
   const std::string slurm = slurp(dir / "slurm.log");
   EXPECT_NE(slurm.find("rule merge_views"), std::string::npos);
@@ -137,7 +138,7 @@ TEST(Snakemake, AFailedSessionReportedTheOthersDoneAndResumed) {
   write_text(disparity, "not a PNG");
   const std::string command = "snakemake -s " + kSnakefile + " --cores 2 --keep-going --directory " + dir.string() +
                               " --config sessions=" + (dir / "sessions").string() + " out=" + (dir / "out").string() +
-                              " bin=" + TOOLINC_BIN_DIR;
+                              " bin=" + toolinc::testing::kBinDir;
   EXPECT_NE(shell(command, dir / "run.log"), 0);
   const std::string log = slurp(dir / "run.log");
   const std::string error =
