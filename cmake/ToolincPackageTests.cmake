@@ -10,7 +10,7 @@ add_test(NAME package_install_and_examples
          COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR} -DBUILD_DIR=${PROJECT_BINARY_DIR}
                  -DWORK_DIR=${PROJECT_BINARY_DIR}/package-test -DINTERPRETER=${TOOLINC_TEST_PYTHON}
                  -DPYTHON=${TOOLINC_PYTHON} -P ${PROJECT_SOURCE_DIR}/tests/package/check_package.cmake)
-set_tests_properties(package_install_and_examples PROPERTIES TIMEOUT 900 RUN_SERIAL TRUE LABELS unit)
+set_tests_properties(package_install_and_examples PROPERTIES TIMEOUT 900 RUN_SERIAL TRUE LABELS integration)
 
 set(python_test_env TOOLINC_BIN_DIR=${PROJECT_BINARY_DIR}/bin TOOLINC_SOURCE_DIR=${PROJECT_SOURCE_DIR}
                     PYTHONPATH=${PROJECT_BINARY_DIR}/python PYTHONDONTWRITEBYTECODE=1)

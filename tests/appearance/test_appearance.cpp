@@ -331,7 +331,7 @@ TEST(AppearanceBuiltin, UnitNormDeterministicAndColourOnlyInItsBlock) {
 // the far end) and, seen face-on beside a sliver of handle, tilted the axis 12-44 degrees in 25 of its 25
 // views before the band was trimmed to its points near the axis; measured now: 147 of 150 views within 5
 // degrees, 23 of the shovel's 25. Asserted: 90 % of all and 80 % of the shovel's.
-TEST(AppearanceDepth, HandleAxisFollowsTheHandleNotTheHead) {
+TEST(AppearanceAccuracy, DepthHandleAxisFollowsTheHandleNotTheHead) {
   const DepthShapeConfig config;
   int within = 0, views = 0, shovel_within = 0, shovel_views = 0;
   for (const auto family : kTools)

@@ -43,7 +43,7 @@ Eigen::Matrix4d pose(double tilt_deg, double roll_deg, double about_deg, const V
   return m;
 }
 
-TEST(AlignPose, AccuracyOverRandomGraspsOfEveryFamily) {
+TEST(AlignPoseAccuracy, OverRandomGraspsOfEveryFamily) {
   int successes = 0, total = 0, ambiguous = 0;
   double slowest_ms = 0, total_ms = 0;
   for (ToolFamily family : all_families()) {

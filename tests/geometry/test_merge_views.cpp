@@ -53,7 +53,7 @@ const std::vector<Vec3> kViewDirections = {Vec3(1, 0, 0.3), Vec3(0.6, 0.3, 0.8),
 
 }  // namespace
 
-TEST(MergeViews, EveryFamilyWithKinematicError) {
+TEST(MergeViewsAccuracy, EveryFamilyWithKinematicError) {
   std::vector<double> chamfers;
   for (ToolFamily family : all_families()) {
     for (int g = 0; g < 10; ++g) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "support/synthetic_cases.hpp"
 #include "toolinc/ann/nearest_distance.hpp"
@@ -83,7 +84,7 @@ TEST(SessionPipeline, NoBlobAtAllToolFollowedOutOfTheHand) {
   EXPECT_GT(followed.cloud.size(), 0.8 * with_mask.cloud.size());
 }
 
-TEST(SessionPipeline, EveryFamilyManySessions) {
+TEST(SessionPipelineAccuracy, EveryFamilyManySessions) {
   // Measured on 8 families x 10 grasps: the merged model and the tooltip from the whole pipeline. The
   // merge floors are the issue's; the tooltip floor is a regression floor below the 95 % (74 of
   // 80 here, 92 %). Over more sessions (evaluate-sessions, docs/accuracy.md) the rate is about 95 %. The
@@ -222,7 +223,7 @@ TEST(SessionPipeline, EvaluateSessionsOnSgbmSessions) {
   EXPECT_NE(e.model_median_m, evaluate_simulated_session(family_session(ToolFamily::hook, 100)).model_median_m);
 }
 
-TEST(SessionPipeline, HandRemnantBesideTheHandleDoesNotTiltIt) {
+TEST(SessionPipelineAccuracy, HandRemnantBesideTheHandleDoesNotTiltIt) {
   // A hoe on the robot's stereo whose merged model keeps a remnant of the hand 7-12 cm from its origin,
   // 2-3 cm beside the handle, where the handle's points form no surface: a line through all of them was
   // tilted 19-20 degrees (tooltip 30 mm off, called confident); the handle's own points, trimmed to those
@@ -236,7 +237,7 @@ TEST(SessionPipeline, HandRemnantBesideTheHandleDoesNotTiltIt) {
   EXPECT_LT(e.tool.tooltip_m, 0.020);
 }
 
-TEST(SessionPipeline, DefaultStereoGrossErrorsRejectedRestMerged) {
+TEST(SessionPipelineAccuracy, DefaultStereoGrossErrorsRejectedRestMerged) {
   // On the robot's stereo (elas, recorded grasps). A displaced view whose few points left in the box
   // lie on a part that slides along itself (a handle along its axis) fits where it lands, and the
   // inlier test cannot tell it from a good view: measured, none of the 8 merged in a GCC build, one in a
@@ -244,7 +245,7 @@ TEST(SessionPipeline, DefaultStereoGrossErrorsRejectedRestMerged) {
   EXPECT_LE(gross_errors_merged(StereoModel::elas, 8, matched_stereo_crop()), 1);
 }
 
-TEST(SessionPipeline, DefaultStereoSessionsCompleteAndDepthEdgesAreDropped) {
+TEST(SessionPipelineAccuracy, DefaultStereoSessionsCompleteAndDepthEdgesAreDropped) {
   // Every family, two grasps, the default (the robot's) stereo: every session merges, and crop's
   // depth-edge filter removes far-off (smeared, flying) points and keeps most good ones.
   PipelineConfig pipeline;
@@ -365,9 +366,10 @@ TEST(SessionPipeline, MakefileRunsEveryStepOnEverySession) {
         run_tool("simulate-session", "-q --family " + family + " --seed 3 -o " + (dir / "sessions" / family).string())
             .exit_code,
         0);
-  const std::string command =
-      "make -s -f " + std::string(TOOLINC_SOURCE_DIR) + "/scripts/pipeline.mk SESSIONS=" + (dir / "sessions").string() +
-      " OUT=" + (dir / "out").string() + " BIN=" + TOOLINC_BIN_DIR + " -j2 >" + (dir / "make.log").string() + " 2>&1";
+  const std::string command = "make -s -f " + std::string(toolinc::testing::kSourceDir) +
+                              "/scripts/pipeline.mk SESSIONS=" + (dir / "sessions").string() +
+                              " OUT=" + (dir / "out").string() + " BIN=" + toolinc::testing::kBinDir + " -j2 >" +
+                              (dir / "make.log").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << slurp(dir / "make.log");
   for (const std::string family : {"hoe", "stick"})
     for (const std::string file : {"views/view_000.ply", "model.ply", "merge_report.json", "frame.json", "tooltip.json",
