@@ -51,19 +51,21 @@ def sessions_table(name):
     by_family = sessions_by_family(result)
     lines = [
         "| kind | sessions | tooltip within 10 mm (95 % interval) | median error | with the true frame "
+        "| relative to the true model aligned on the merge (95 % interval) "
         "| confident | confident: tooltip within 15 mm (95 % interval) |",
-        "|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for row in result["summary"]:
         cases = result["sessions"] if row["family"] == "all" else by_family[row["family"]]
         errors = [s["tooltip_error_m"] for s in cases if s["tooltip_error_m"] is not None]
-        confident = row["confident_tooltip_within_15mm"]
+        confident, relative = row["confident_tooltip_within_15mm"], row["tooltip_within_tolerance_relative"]
         confident_text = f"{pct(confident['rate'])} ({interval(confident)})" if confident["trials"] else "-"
         kind = f"**{row['family']}**" if row["family"] == "all" else row["family"]
         lines.append(
             f"| {kind} | {row['sessions']} | {share(row['tooltip_within_tolerance'], row['sessions'])} "
             f"{pct(row['rate'])} ({interval(row)}) | {mm(statistics.median(errors)) if errors else '-'} "
             f"| {share(row['tooltip_within_tolerance_true_frame'], row['sessions'])} "
+            f"| {share(relative['successes'], relative['trials'])} {pct(relative['rate'])} ({interval(relative)}) "
             f"| {row['confident']} | {confident_text} |")
     return "\n".join(lines)
 

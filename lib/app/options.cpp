@@ -41,6 +41,13 @@ void add_parameter_options(CLI::App& cli, Config& config, const std::vector<Para
 }  // namespace
 
 void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
+  cli.add_option_function<std::string>(
+         "--method", [&c](const std::string& name) { c.method = frame_method_from_string(name); },
+         "rules (each axis decided once) or search (every hypothesis scored by the fitted model, the most likely "
+         "kept)")
+      ->default_str(to_string(c.method))
+      ->group("Tool frame")
+      ->check(CLI::IsMember({"rules", "search"}));
   add_parameter_options(cli, c, tool_frame_parameters(), "Tool frame");
 }
 

@@ -39,6 +39,10 @@ const std::vector<Parameter<ToolFrameConfig>>& tool_frame_parameters() {
       {"handle-section-length", "m",
        "The handle's radius is refitted per section of this length, so a grip and a thinner shaft do not tilt it",
        &F::handle_section_length, 0, kOpen},
+      {"held-share", "",
+       "The part the hand holds, for the search's held-part line: points within this share of the way from the "
+       "tool's nearest point to its farthest",
+       &F::held_share, 0.1, kClosed, 1.0},
       {"stick-width", "m",
        "A tool whose effector side stays this close to its axis has no head: a stick, its tip its far end",
        &F::stick_width, 0, kClosed},

@@ -17,6 +17,7 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/scatter.hpp"
 #include "toolinc/core/statistics.hpp"
+#include "toolinc/frame/frame_search.hpp"
 
 namespace toolinc {
 namespace {
@@ -71,15 +72,15 @@ Cylinder line_towards_hand(const Vec3& point, const Vec3& axis) {
   return {point, axis.dot(-point) < 0 ? Vec3(-axis) : axis, 0.0, 0.0};
 }
 
-// The part of the tool the hand holds: the points nearer the hand (the origin) than halfway between
-// the tool's nearest and farthest points. A heavy head (most of a reconstruction's points) tilts the
-// whole tool's principal axis towards it, but not this part's.
-Points near_half(const Points& cloud) {
+// The part of the tool the hand holds: the points nearer the hand (the origin) than `share` of the way
+// from the tool's nearest point to its farthest. A heavy head (most of a reconstruction's points) tilts
+// the whole tool's principal axis towards it, but not this part's.
+Points held_part(const Points& cloud, double share) {
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
   for (const auto& p : cloud) lo = std::min(lo, p.norm()), hi = std::max(hi, p.norm());
   Points near;
   for (const auto& p : cloud)
-    if (p.norm() <= 0.5 * (lo + hi)) near.push_back(p);
+    if (p.norm() <= lo + share * (hi - lo)) near.push_back(p);
   return near;
 }
 
@@ -427,45 +428,75 @@ Eigen::Matrix4d ToolFrame::hand_from_tool() const {
   return m;
 }
 
-ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints) {
-  if (config.handle_hand_skip >= config.handle_fraction)
-    throw std::invalid_argument("handle-hand-skip must be below handle-fraction: nothing would be left to fit");
-  ToolFrame frame;
-  const Points outside = remove_within(input, Vec3::Zero(), config.hand_radius);
-  const Points cloud = outside.empty() ? Points{}
-                                       : remove_isolated(voxel_downsample(outside, config.voxel_size),
-                                                         config.isolated_radius, config.isolated_min_neighbors);
-  const PrincipalAxes principal = principal_axes(cloud);
-  check_not_degenerate(input, outside, cloud, principal, config);
-  frame.diagnostics.points_input = static_cast<int>(input.size());
-  frame.diagnostics.points_outside_hand = static_cast<int>(outside.size());
-  frame.diagnostics.points_used = static_cast<int>(cloud.size());
-  frame.diagnostics.centroid = principal.centroid;
-  frame.diagnostics.principal = principal.axes;
-  frame.eigenvalues = principal.eigenvalues;
+namespace {
 
-  // Handle axis (Y), signed towards the hand at the origin. A stick (its effector side all within
-  // stick-width of its principal line) is its own handle: its line is the principal axis, which a
-  // bent or wavy stick's local cylinder would tilt. Any other tool's major axis is tilted by its head,
-  // so its handle is fitted.
-  HandleFit handle;
+HandleFit fit_handle_from(const Points& cloud, const PrincipalAxes& start, const ToolFrameConfig& config) {
+  HandleFit fit = fit_handle(cloud, start, config, config.handle_hand_skip);
+  // On a short handle the slab, once the hand end is skipped, reaches into the head and is no
+  // cylinder: then the whole slab, hand end included, is the handle's.
+  if (!fit.cylinder && config.handle_hand_skip > 0) fit = fit_handle(cloud, start, config, 0.0);
+  return fit;
+}
+
+// Handle axis (Y), signed towards the hand at the origin, as the rules choose it. A stick (its effector
+// side all within stick-width of its principal line) is its own handle: its line is the principal axis,
+// which a bent or wavy stick's local cylinder would tilt. Any other tool's major axis is tilted by its
+// head, so its handle is fitted, started from the whole tool's major axis and from that of the half the
+// hand holds (which a heavy head does not tilt); the handle is the thinner fit, preferring a surface.
+HandleFit rule_handle(const Points& cloud, const PrincipalAxes& principal, const ToolFrameConfig& config) {
   const Cylinder major_line = line_towards_hand(principal.centroid, principal.axes.col(0));
-  if (effector_extent(cloud, principal.centroid, major_line, config.salience_quantile) < config.stick_width) {
-    handle = stick_line(cloud, major_line);
-  } else {
-    const auto fit_from = [&](const PrincipalAxes& start) {
-      HandleFit fit = fit_handle(cloud, start, config, config.handle_hand_skip);
-      // On a short handle the slab, once the hand end is skipped, reaches into the head and is no
-      // cylinder: then the whole slab, hand end included, is the handle's.
-      if (!fit.cylinder && config.handle_hand_skip > 0) fit = fit_handle(cloud, start, config, 0.0);
-      return fit;
+  if (effector_extent(cloud, principal.centroid, major_line, config.salience_quantile) < config.stick_width)
+    return stick_line(cloud, major_line);
+  HandleFit handle = fit_handle_from(cloud, principal, config);
+  const HandleFit held = fit_handle_from(cloud, principal_axes(held_part(cloud, 0.5)), config);
+  if (std::pair{!held.cylinder, held.radius} < std::pair{!handle.cylinder, handle.radius}) handle = held;
+  return handle;
+}
+
+// The held part's own line (the points within held-share of the way from the tool's nearest point to its
+// farthest, trimmed of what lies off it): it needs no handle surface, so a half-seen or smeared handle
+// does not tilt it, and a head reaching into the handle's slab does not either.
+HandleFit held_line(const Points& cloud, const ToolFrameConfig& config) {
+  const Points held = held_part(cloud, config.held_share);
+  if (held.size() < 10) return {};
+  const Cylinder trimmed = trimmed_line(held, config.handle_radial_factor, config.handle_iterations);
+  return stick_line(held, line_towards_hand(trimmed.point, trimmed.axis));
+}
+
+// Every handle the data allows, each with where it came from: the rules' fits from the whole tool's
+// major axis and from the held half's, the held part's trimmed line, and the major axis's own line (a
+// stick's). Near-duplicates (axes within a degree, lines within a millimetre at the hand) are kept once.
+std::vector<std::pair<std::string, HandleFit>> handle_candidates(const Points& cloud, const PrincipalAxes& principal,
+                                                                 const ToolFrameConfig& config) {
+  const Cylinder major_line = line_towards_hand(principal.centroid, principal.axes.col(0));
+  std::vector<std::pair<std::string, HandleFit>> all{
+      {"whole tool's axis, fitted", fit_handle_from(cloud, principal, config)},
+      {"held half's axis, fitted", fit_handle_from(cloud, principal_axes(held_part(cloud, 0.5)), config)},
+      {"held part's line", held_line(cloud, config)},
+      {"whole tool's principal line", stick_line(cloud, major_line)}};
+  // The point of a handle's line nearest the hand.
+  const auto at_hand = [](const HandleFit& h) -> Vec3 {
+    const Vec3 axis = h.axis.normalized();
+    return h.point - h.point.dot(axis) * axis;
+  };
+  std::vector<std::pair<std::string, HandleFit>> kept;
+  for (auto& candidate : all) {
+    const HandleFit& h = candidate.second;
+    if (h.points == 0 || !h.axis.allFinite() || h.axis.norm() < 0.5) continue;
+    const auto same = [&](const auto& other) {
+      return h.axis.normalized().dot(other.second.axis.normalized()) >= std::cos(kDeg) &&
+             (at_hand(h) - at_hand(other.second)).norm() < 0.001;
     };
-    // Started from the whole tool's major axis and from that of the part the hand holds (which a
-    // heavy head does not tilt); the handle is the thinner fit, preferring a cylinder surface.
-    handle = fit_from(principal);
-    const HandleFit held = fit_from(principal_axes(near_half(cloud)));
-    if (std::pair{!held.cylinder, held.radius} < std::pair{!handle.cylinder, handle.radius}) handle = held;
+    if (std::none_of(kept.begin(), kept.end(), same)) kept.push_back(std::move(candidate));
   }
+  return kept;
+}
+
+// The frame about a given handle: the symmetry plane through it, the effector axis and its side, the
+// head's kind and the doubts. `frame` holds what preparing the cloud found.
+ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const PrincipalAxes& principal,
+                             const HandleFit& handle, const FreeSpace& free_space, bool with_views,
+                             const ToolFrameConfig& config) {
   const Vec3 y_axis = handle.axis.normalized();
   frame.handle_point = handle.point;
   frame.diagnostics.handle_points = handle.points;
@@ -483,7 +514,6 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   u.normalize();
   const Vec3 v = y_axis.cross(u);
   const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
-  const FreeSpace free_space(cloud, viewpoints);
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
   // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
   const Vec3& centre = handle.point;
@@ -501,7 +531,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   frame.stick = frame.diagnostics.head_extent < config.stick_width;
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
                               config.symmetry_tolerance, config.symmetry_match_weight,
-                              viewpoints.empty() ? nullptr : &free_space, config.symmetry_normal_neighbors,
+                              with_views ? &free_space : nullptr, config.symmetry_normal_neighbors,
                               static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr);
   const auto score_at = [&](double angle) { return scorer.score(normal_at(angle), centre); };
   const double step = config.symmetry_step_deg * kDeg;
@@ -680,6 +710,134 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   // The centroid projected onto the symmetry plane.
   frame.origin = principal.centroid - (principal.centroid - (centre + offset * z_normal)).dot(z_normal) * z_normal;
   return frame;
+}
+
+}  // namespace
+
+namespace {
+
+// The cloud as every method uses it: the hand's points removed, resampled, stray points dropped; its
+// principal axes; and the frame's record of it.
+struct Prepared {
+  Points cloud;
+  PrincipalAxes principal;
+  ToolFrame frame;
+};
+Prepared prepare(const Points& input, const ToolFrameConfig& config) {
+  if (config.handle_hand_skip >= config.handle_fraction)
+    throw std::invalid_argument("handle-hand-skip must be below handle-fraction: nothing would be left to fit");
+  Prepared p;
+  const Points outside = remove_within(input, Vec3::Zero(), config.hand_radius);
+  p.cloud = outside.empty() ? Points{}
+                            : remove_isolated(voxel_downsample(outside, config.voxel_size), config.isolated_radius,
+                                              config.isolated_min_neighbors);
+  p.principal = principal_axes(p.cloud);
+  check_not_degenerate(input, outside, p.cloud, p.principal, config);
+  p.frame.diagnostics.points_input = static_cast<int>(input.size());
+  p.frame.diagnostics.points_outside_hand = static_cast<int>(outside.size());
+  p.frame.diagnostics.points_used = static_cast<int>(p.cloud.size());
+  p.frame.diagnostics.centroid = p.principal.centroid;
+  p.frame.diagnostics.principal = p.principal.axes;
+  p.frame.eigenvalues = p.principal.eigenvalues;
+  return p;
+}
+
+// The same frame with the effector on the other side of the handle (X and Z turned, so it stays
+// right-handed; the symmetry plane and the origin on it are the same).
+ToolFrame other_side(ToolFrame frame) {
+  frame.axes.col(0) = -frame.axes.col(0);
+  frame.axes.col(2) = -frame.axes.col(2);
+  std::swap(frame.diagnostics.effector_reach_positive, frame.diagnostics.effector_reach_negative);
+  frame.diagnostics.head_curl = -frame.diagnostics.head_curl;
+  frame.diagnostics.effector_sign_rule = "the search's other side: +X where the rules found the effector's back";
+  return frame;
+}
+
+// A hypothesis's features, each in units of the parameter that gives it its physical scale:
+std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const Vec3& held_axis,
+                                               const ToolFrameConfig& c) {
+  const Vec3 x = f.effector_axis(), y = f.handle_axis();
+  const Cylinder handle{f.handle_point, y, 0.0, 0.0};
+  // The head's mean point along +X: the side its material lies on, which smear moves little.
+  double head_x = 0.0;
+  int head = 0;
+  for (const auto& p : cloud)
+    if ((p - f.diagnostics.centroid).dot(y) < 0 && radial_distance(handle, p) >= c.head_radius_factor * f.handle_radius)
+      head_x += (p - f.handle_point).dot(x), ++head;
+  return {
+      f.handle_radius / c.grasp_max_radius,                // the handle's radius against what the hand closes on
+      f.diagnostics.hand_to_handle / c.grasp_reach,        // the handle's line's distance from the hand
+      f.diagnostics.handle_rms / c.handle_residual_scale,  // the handle fit's residual against the stereo noise
+      f.symmetry_score,                                    // the head's mirror residual (0 a mirror, 1 none)
+      (f.diagnostics.effector_reach_positive - f.diagnostics.effector_reach_negative) / c.salience_min,  // salience
+      f.diagnostics.head_curl / c.head_curl_min,  // the head's edges rising towards +X (a scoop's concave side)
+      std::acos(std::min(1.0, std::abs(y.dot(held_axis)))) / (10.0 * kDeg),  // tilt from the held part's line
+      head > 0 ? head_x / head / c.salience_min : 0.0,                       // the head's side
+  };
+}
+
+}  // namespace
+
+const std::array<const char*, kFrameFeatures>& frame_feature_names() {
+  static const std::array<const char*, kFrameFeatures> names{
+      "handle_radius_per_grasp_max_radius", "hand_to_handle_per_grasp_reach",
+      "handle_rms_per_residual_scale",      "mirror_score",
+      "effector_salience_per_salience_min", "head_curl_per_curl_min",
+      "tilt_from_held_line_per_10_deg",     "head_mean_x_per_salience_min"};
+  return names;
+}
+
+double FrameScoreModel::log_odds(const std::array<double, kFrameFeatures>& features) const {
+  double sum = bias;
+  for (int i = 0; i < kFrameFeatures; ++i) sum += weights[i] * features[i];
+  return sum;
+}
+
+std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFrameConfig& config,
+                                              const Points& viewpoints, const FrameScoreModel& model) {
+  const Prepared p = prepare(input, config);
+  const FreeSpace free_space(p.cloud, viewpoints);
+  const HandleFit held = held_line(p.cloud, config);
+  const Vec3 held_axis = held.points > 0 ? Vec3(held.axis.normalized()) : Vec3(p.principal.axes.col(0));
+  std::vector<FrameHypothesis> hypotheses;
+  for (const auto& [source, handle] : handle_candidates(p.cloud, p.principal, config)) {
+    const ToolFrame frame =
+        frame_about_handle(p.frame, p.cloud, p.principal, handle, free_space, !viewpoints.empty(), config);
+    for (const bool reversed : {false, true}) {
+      FrameHypothesis h{reversed ? other_side(frame) : frame, source, reversed, {}, 0.0};
+      h.features = features_of(h.frame, p.cloud, held_axis, config);
+      h.log_odds = model.log_odds(h.features);
+      hypotheses.push_back(std::move(h));
+    }
+  }
+  return hypotheses;
+}
+
+ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints) {
+  if (config.method == FrameMethod::search) {
+    const auto hypotheses = frame_hypotheses(input, config, viewpoints);
+    const auto best = std::max_element(hypotheses.begin(), hypotheses.end(),
+                                       [](const auto& a, const auto& b) { return a.log_odds < b.log_odds; });
+    ToolFrame frame = best->frame;
+    // How likely the chosen hypothesis is right, as the fitted model says; below even odds it is doubtful.
+    const double probability = 1.0 / (1.0 + std::exp(-best->log_odds));
+    frame.confidence.check(2.0 * probability - 1.0,
+                           fmt::format("the search's best hypothesis ({}{}) is right with probability {:.2f} only",
+                                       best->handle_source, best->side_reversed ? ", other side" : "", probability));
+    return frame;
+  }
+  const Prepared p = prepare(input, config);
+  const FreeSpace free_space(p.cloud, viewpoints);
+  return frame_about_handle(p.frame, p.cloud, p.principal, rule_handle(p.cloud, p.principal, config), free_space,
+                            !viewpoints.empty(), config);
+}
+
+std::string to_string(FrameMethod method) { return method == FrameMethod::search ? "search" : "rules"; }
+
+FrameMethod frame_method_from_string(const std::string& name) {
+  if (name == "rules") return FrameMethod::rules;
+  if (name == "search") return FrameMethod::search;
+  throw std::invalid_argument("unknown frame method '" + name + "' (rules or search)");
 }
 
 }  // namespace toolinc

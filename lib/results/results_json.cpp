@@ -37,6 +37,8 @@ Json settings_json(const Config& config, const std::vector<Parameter<Config>>& t
 
 Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
   const Json candidates = planes_json(frame.diagnostics.symmetry_candidates);
+  Json frame_settings = settings_json(config, tool_frame_parameters());
+  frame_settings["method"] = to_string(config.method);
   return {
       {"type", "tool_frame"},
       {"version", 1},
@@ -88,7 +90,7 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"stick", frame.stick},
         {"head", {{"length_m", frame.diagnostics.head_length}, {"width_m", frame.diagnostics.head_width}}},
         {"hand_to_handle_m", frame.diagnostics.hand_to_handle}}},
-      {"settings", settings_json(config, tool_frame_parameters())},
+      {"settings", frame_settings},
   };
 }
 

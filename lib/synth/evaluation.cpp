@@ -12,14 +12,18 @@
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/core/statistics.hpp"
+#include "toolinc/frame/frame_search.hpp"
+#include "toolinc/registration/icp.hpp"
 
 namespace toolinc {
 
 namespace {
 
-// estimate-frame and find-tooltip on `cloud`, compared with the truth.
+// estimate-frame and find-tooltip on `cloud`, compared with the truth (the tooltip also with the truth
+// as the cloud has the tool, `relative`).
 HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewpoints, const ToolGroundTruth& truth,
-                                        const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
+                                        const ToolGroundTruth& relative, const ToolFrameConfig& frame_config,
+                                        const TooltipConfig& tooltip_config) {
   HeldToolErrors errors;
   try {
     const ToolFrame frame = estimate_tool_frame(cloud, frame_config, viewpoints);
@@ -28,6 +32,7 @@ HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewp
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
     errors.tooltip_m = tooltip_error(truth, tip.position);
+    errors.tooltip_relative_m = tooltip_error(relative, tip.position);
     errors.confident = tip.confidence.confident;
     errors.symmetry_plane_deg =
         std::acos(std::min(1.0, std::abs(frame.symmetry_axis().dot(truth.axes.col(2))))) * 180.0 / M_PI;
@@ -54,8 +59,8 @@ HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry
                                   const Eigen::Matrix4d& grasp, double hand_radius, double noise_sigma, Rng& rng,
                                   const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
   const Points observed = observe_in_hand(canonical, grasp, hand_radius, noise_sigma, rng);
-  return frame_and_tooltip_errors(observed, {}, tool_ground_truth(canonical, symmetry, tip, grasp), frame_config,
-                                  tooltip_config);
+  const ToolGroundTruth truth = tool_ground_truth(canonical, symmetry, tip, grasp);
+  return frame_and_tooltip_errors(observed, {}, truth, truth, frame_config, tooltip_config);
 }
 
 Points true_surface(const SessionSimulatorConfig& session) {
@@ -65,35 +70,88 @@ Points true_surface(const SessionSimulatorConfig& session) {
   return generate_tool(dense, 1).points;
 }
 
-SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
+namespace {
+
+// A simulated session cropped (every view; one bad view does not lose the others, as crop-cloud --all)
+// and merged, with the truth: at the true grasp, and carried by the true model aligned onto the merge.
+struct MergedSession {
+  Points canonical;
+  ToolGroundTruth truth, relative;
+  int views_rejected = 0;
+  MergeResult merged;
+  std::string failure;  // why the merge failed, else empty
+};
+MergedSession simulate_and_merge(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
   const SimulatedSession session = simulate_session(config);
-  const Points canonical = true_surface(config);
-  const ToolGroundTruth truth =
-      tool_ground_truth(canonical, tool_symmetry(config), tool_truth_tip(config), config.hand_from_canonical);
-  SessionErrors errors;
+  MergedSession m;
+  m.canonical = true_surface(config);
+  m.truth = tool_ground_truth(m.canonical, tool_symmetry(config), tool_truth_tip(config), config.hand_from_canonical);
   std::vector<PointCloud> views;
   for (std::size_t v = 0; v < session.views.size(); ++v) {
     try {
       views.push_back(crop_view(session.info, session.info.views[v], session.views[v], pipeline.crop).cloud);
     } catch (const MethodError&) {
-      ++errors.views_rejected;  // as crop-cloud --all: one bad view does not lose the others
+      ++m.views_rejected;
     }
   }
-  MergeResult merged;
   try {
     if (views.empty()) throw MethodError("no view could be cropped");
-    merged = merge_views(views, pipeline.merge);
+    m.merged = merge_views(views, pipeline.merge);
   } catch (const MethodError& e) {
-    errors.tool.failure = e.what();
+    m.failure = e.what();
+    return m;
+  }
+  for (const auto& view : m.merged.views) m.views_rejected += !view.accepted;
+  m.relative = tool_ground_truth(m.canonical, tool_symmetry(config), tool_truth_tip(config),
+                                 pose_on_merged_model(m.merged.model.points, m.canonical, config.hand_from_canonical));
+  return m;
+}
+
+}  // namespace
+
+SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
+  MergedSession m = simulate_and_merge(config, pipeline);
+  SessionErrors errors;
+  errors.views_rejected = m.views_rejected;
+  if (!m.failure.empty()) {
+    errors.tool.failure = m.failure;
     return errors;
   }
-  for (const auto& view : merged.views) errors.views_rejected += !view.accepted;
-  errors.model = distance_profile(merged.model.points, transform_points(canonical, config.hand_from_canonical));
+  errors.model = distance_profile(m.merged.model.points, transform_points(m.canonical, config.hand_from_canonical));
   errors.model_median_m = errors.model.median_m;
-  errors.tool =
-      frame_and_tooltip_errors(merged.model.points, merged.model.viewpoints, truth, pipeline.frame, pipeline.tooltip);
-  errors.merged = std::move(merged.model.points);
+  errors.tool = frame_and_tooltip_errors(m.merged.model.points, m.merged.model.viewpoints, m.truth, m.relative,
+                                         pipeline.frame, pipeline.tooltip);
+  errors.merged = std::move(m.merged.model.points);
   return errors;
+}
+
+std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulatorConfig& config,
+                                                          const PipelineConfig& pipeline) {
+  const MergedSession m = simulate_and_merge(config, pipeline);
+  std::vector<LabelledHypothesis> labelled;
+  if (!m.failure.empty()) return labelled;
+  try {
+    for (const auto& h : frame_hypotheses(m.merged.model.points, pipeline.frame, m.merged.model.viewpoints)) {
+      double error = std::numeric_limits<double>::infinity();
+      try {
+        error = tooltip_error(m.relative, find_tooltip(m.merged.model.points, h.frame, pipeline.tooltip).position);
+      } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
+      }
+      labelled.push_back({h.features, h.handle_source, h.side_reversed, error});
+    }
+  } catch (const MethodError&) {  // a degenerate merged model: nothing to learn from
+    labelled.clear();
+  }
+  return labelled;
+}
+
+Eigen::Matrix4d pose_on_merged_model(const Points& merged, const Points& canonical,
+                                     const Eigen::Matrix4d& hand_from_canonical) {
+  // The merged model onto the true surface (every point it holds has a true counterpart; much of the
+  // true surface was never seen), at the merge's 2 mm grid; the inverse carries the surface onto the model.
+  const IcpTarget surface(transform_points(voxel_downsample(canonical, 0.002), hand_from_canonical));
+  const IcpResult fit = align_point_to_plane(merged, surface, Eigen::Matrix4d::Identity());
+  return toolinc::inverse(fit.target_from_source) * hand_from_canonical;
 }
 
 std::string rate_text(int successes, int trials) {

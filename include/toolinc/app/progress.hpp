@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdio>
+#include <functional>
 #include <string>
 
 namespace toolinc {
@@ -23,5 +24,11 @@ class Progress {
   std::FILE* stream_;
   bool enabled_;
 };
+
+// Runs body(i) for every i < count on `jobs` threads (the caller's among them), drawing the progress line.
+// Each i is run once, in no set order: a body that writes only its own slot gives the same result for
+// any number of jobs.
+void run_in_parallel(std::size_t count, unsigned jobs, const Progress& progress,
+                     const std::function<void(std::size_t)>& body);
 
 }  // namespace toolinc

@@ -12,7 +12,15 @@
 
 namespace toolinc {
 
+// How the frame is found: `rules` decides each axis once (the handle, then the plane, then the side);
+// `search` completes the frame about every candidate handle with either effector side and keeps the one
+// the fitted score rates most likely right (frame_search.hpp).
+enum class FrameMethod { rules, search };
+std::string to_string(FrameMethod method);
+FrameMethod frame_method_from_string(const std::string& name);  // throws std::invalid_argument
+
 struct ToolFrameConfig {
+  FrameMethod method = FrameMethod::rules;
   double hand_radius = 0.06;          // m: points this close to the hand origin belong to the hand
   double voxel_size = 0.004;          // m: resampling that makes every statistic density-independent
   double isolated_radius = 0.01;      // m: resampled points with fewer than isolated_min_neighbors ...
@@ -34,6 +42,9 @@ struct ToolFrameConfig {
   double handle_max_radius = 0.03;       // m: a fitted handle cylinder wider than this is not trusted
   double handle_section_length = 0.02;   // m: the handle's radius is fitted per section of this length, so
                                          //    a grip and a thinner shaft on the same axis do not tilt it
+  double held_share = 0.7;               // the part the hand holds, for the search's held-part line: points
+                                         //    within this share of the way from the tool's nearest point to
+                                         //    its farthest (handles are 45-75 % of the lab's tools)
   double symmetry_step_deg = 7.5;        // coarse sweep of the symmetry plane about the handle axis
   double symmetry_tolerance = 0.01;      // m: mirrored points this far from the cloud are fully asymmetric
   int symmetry_samples = 400;            // points mirrored per score

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "toolinc/ann/nearest_distance.hpp"
+#include "toolinc/frame/frame_search.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
 #include "toolinc/registration/merge_views.hpp"
@@ -25,6 +26,10 @@ struct HeldToolErrors {
   // the estimated symmetry plane is turned from the true one (0-90 degrees). A miss that the true frame
   // also makes lies in the cloud (the tip not seen, or points off the tool in front of it), not in the frame.
   double tooltip_true_frame_m = 0.0;
+  // The tooltip's error against the true model aligned onto the cloud (ICP from its true pose), as the
+  // robot's reconstructions are judged: the views' kinematic error moves a merged model as a whole, which
+  // no frame rule can see. The same as tooltip_m for a held tool's cloud, which nothing moved.
+  double tooltip_relative_m = 0.0;
   double symmetry_plane_deg = 0.0;
   bool confident = false;  // the tooltip's confidence.confident
   std::string failure;     // the MethodError's reason when the method failed, else empty
@@ -51,6 +56,11 @@ struct SessionErrors {
   HeldToolErrors tool;          // of the frame and tooltip; failure also says when the merge failed
 };
 
+// The tool's pose in the hand frame as the merged model has it: the true surface (canonical) aligned onto
+// the merged model by point-to-plane ICP from its true pose (hand_from_canonical).
+Eigen::Matrix4d pose_on_merged_model(const Points& merged, const Points& canonical,
+                                     const Eigen::Matrix4d& hand_from_canonical);
+
 // The configured tool's true surface in the canonical pose: a model's own points; a family's shape
 // sampled at 1 mm, finer than the merged model's 2 mm grid, so that distances to it measure the model.
 Points true_surface(const SessionSimulatorConfig& session);
@@ -58,6 +68,18 @@ Points true_surface(const SessionSimulatorConfig& session);
 // Simulates the session, then crop-cloud (all views), merge-views, estimate-frame and find-tooltip, as
 // scripts/pipeline.mk runs them, and compares with the tool's true surface and ground truth.
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& session, const PipelineConfig& pipeline = {});
+
+// Every frame hypothesis (frame_search.hpp) on a simulated session's merged model, with its tooltip's
+// error against the truth carried by the true model aligned onto that model (infinite where the
+// hypothesis has no tip): the search's training data. Empty when the session does not merge.
+struct LabelledHypothesis {
+  std::array<double, kFrameFeatures> features;
+  std::string handle_source;
+  bool side_reversed = false;
+  double tooltip_m = 0.0;
+};
+std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulatorConfig& session,
+                                                          const PipelineConfig& pipeline = {});
 
 // A rate and its 95 % (Wilson) interval: "95.0% (92.0-96.9%)", and as JSON {name, trials, successes,
 // rate, rate_interval_95}; the reports over families, kinds and models share them.

@@ -1,0 +1,133 @@
+// The frame as a search over hypotheses: what it enumerates, that it keeps the best-scored one, that the
+// shipped weights are the shipped file's and that fit-frame-score reproduces that file; and the logistic
+// fit it rests on, against data drawn from known weights.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <set>
+
+#include "support/paths.hpp"
+#include "support/run_tool.hpp"
+#include "support/synthetic_cases.hpp"
+#include "toolinc/core/logistic.hpp"
+#include "toolinc/core/random.hpp"
+#include "toolinc/core/rigid.hpp"
+#include "toolinc/frame/frame_search.hpp"
+#include "toolinc/io/json_file.hpp"
+
+using namespace toolinc;
+using namespace toolinc::testing;
+
+TEST(Logistic, RecoversTheWeightsItsDataWasDrawnFrom) {
+  // 20,000 samples of log-odds 0.5 + 2 a - 1 b: the weights' standard errors are about 0.03, so 0.15 is
+  // five of them.
+  Rng rng(3);
+  const int n = 20000;
+  Eigen::MatrixXd rows(n, 2);
+  std::vector<int> labels(n);
+  for (int i = 0; i < n; ++i) {
+    rows(i, 0) = rng.gaussian();
+    rows(i, 1) = rng.gaussian();
+    const double p = 1.0 / (1.0 + std::exp(-(0.5 + 2.0 * rows(i, 0) - rows(i, 1))));
+    labels[i] = rng.uniform() < p;
+  }
+  const LogisticFit fit = fit_logistic(rows, labels, 0.0);
+  EXPECT_NEAR(fit.weights[0], 2.0, 0.15);
+  EXPECT_NEAR(fit.weights[1], -1.0, 0.15);
+  EXPECT_NEAR(fit.bias, 0.5, 0.15);
+}
+
+TEST(Logistic, SeparableDataGivesFiniteWeights) {
+  Eigen::MatrixXd rows(4, 1);
+  rows << -2, -1, 1, 2;
+  const LogisticFit fit = fit_logistic(rows, {0, 0, 1, 1}, 0.01);
+  EXPECT_TRUE(std::isfinite(fit.weights[0]));
+  EXPECT_GT(fit.weights[0], 1.0);
+  EXPECT_THROW(fit_logistic(rows, {0, 1}, 0.01), std::invalid_argument);
+}
+
+TEST(FrameSearch, HypothesesAreCandidateHandlesWithEitherSide) {
+  for (const ToolFamily family : {ToolFamily::hook, ToolFamily::hoe, ToolFamily::rake}) {
+    const HeldToolCase held = make_held_tool(family, 5);
+    const auto hypotheses = frame_hypotheses(held.observed);
+    ASSERT_GE(hypotheses.size(), 4u) << to_string(family);
+    ASSERT_EQ(hypotheses.size() % 2, 0u);
+    std::set<std::string> sources;
+    for (std::size_t i = 0; i < hypotheses.size(); i += 2) {
+      const ToolFrame &rules_side = hypotheses[i].frame, &other = hypotheses[i + 1].frame;
+      EXPECT_FALSE(hypotheses[i].side_reversed);
+      EXPECT_TRUE(hypotheses[i + 1].side_reversed);
+      EXPECT_EQ(hypotheses[i].handle_source, hypotheses[i + 1].handle_source);
+      EXPECT_TRUE(sources.insert(hypotheses[i].handle_source).second) << "a handle listed twice";
+      // The same handle and plane, the effector turned: still right-handed.
+      EXPECT_TRUE(rules_side.handle_axis().isApprox(other.handle_axis()));
+      EXPECT_TRUE(rules_side.effector_axis().isApprox(-other.effector_axis()));
+      EXPECT_TRUE(is_rotation(other.axes, 1e-9));
+      // The side's features change sign with the side; the handle's do not.
+      EXPECT_DOUBLE_EQ(hypotheses[i].features[4], -hypotheses[i + 1].features[4]);
+      EXPECT_DOUBLE_EQ(hypotheses[i].features[0], hypotheses[i + 1].features[0]);
+      for (const double f : hypotheses[i].features) EXPECT_TRUE(std::isfinite(f));
+    }
+  }
+}
+
+TEST(FrameSearch, KeepsTheMostLikelyHypothesis) {
+  const HeldToolCase held = make_held_tool(ToolFamily::l_stick, 2);
+  ToolFrameConfig config;
+  config.method = FrameMethod::search;
+  const auto hypotheses = frame_hypotheses(held.observed, config);
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < hypotheses.size(); ++i)
+    if (hypotheses[i].log_odds > hypotheses[best].log_odds) best = i;
+  const ToolFrame frame = estimate_tool_frame(held.observed, config);
+  EXPECT_TRUE(frame.axes.isApprox(hypotheses[best].frame.axes));
+  // A model that scores only the effector's salience, against it: the least salient side wins.
+  FrameScoreModel against_salience;
+  against_salience.weights[4] = -1.0;
+  const auto scored = frame_hypotheses(held.observed, config, {}, against_salience);
+  double least = scored.front().features[4];
+  for (const auto& h : scored) least = std::min(least, h.features[4]);
+  for (const auto& h : scored) EXPECT_DOUBLE_EQ(h.log_odds, -h.features[4]);
+  EXPECT_LT(least, 0.0) << "some hypothesis has its effector on its less salient side";
+}
+
+TEST(FrameSearch, ShippedWeightsAreTheShippedFilesAndTheMethodIsRecorded) {
+  const Json file = read_json(std::string(kSourceDir) + "/configs/frame-score.json");
+  const FrameScoreModel& model = fitted_frame_score();
+  ASSERT_EQ(file.at("features").size(), static_cast<std::size_t>(kFrameFeatures));
+  for (int f = 0; f < kFrameFeatures; ++f) {
+    EXPECT_EQ(file.at("features")[f].get<std::string>(), frame_feature_names()[f]);
+    EXPECT_DOUBLE_EQ(file.at("weights")[f].get<double>(), model.weights[f]) << frame_feature_names()[f];
+  }
+  EXPECT_DOUBLE_EQ(file.at("bias").get<double>(), model.bias);
+  const std::string cloud = std::string(kSourceDir) + "/data/held/hook.ply";
+  const ToolRun run = run_tool("estimate-frame", "-q " + cloud + " --method search -o -");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("\"method\": \"search\""), std::string::npos);
+  EXPECT_EQ(run_tool("estimate-frame", "-q " + cloud + " --method guess -o -").exit_code, 2);
+}
+
+TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
+  // The fit is rerun as the file says it was made. Its labels are tooltips within 10 mm, and a few
+  // hypotheses lie within a millimetre of that on either side, where the compilers' rounding of the
+  // simulated disparities decides: the weights agree within a tenth of their size (plus 0.02).
+  const Json file = read_json(std::string(kSourceDir) + "/configs/frame-score.json");
+  const Json& on = file.at("fitted_on");
+  std::string families;
+  for (const auto& f : on.at("families")) families += " " + f.get<std::string>();
+  const auto dir = scratch_dir("fit-frame-score");
+  const ToolRun run =
+      run_tool("fit-frame-score", "-q -j 2 --families" + families + " --first-seed " +
+                                      std::to_string(on.at("first_seed").get<int>()) + " --grasps " +
+                                      std::to_string(on.at("grasps").get<int>()) + " --stereo " +
+                                      on.at("stereo").get<std::string>() + " -o " + (dir / "score.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json refit = read_json((dir / "score.json").string());
+  for (int f = 0; f < kFrameFeatures; ++f) {
+    const double shipped = file.at("weights")[f].get<double>(), again = refit.at("weights")[f].get<double>();
+    EXPECT_NEAR(again, shipped, 0.1 * std::abs(shipped) + 0.02) << frame_feature_names()[f];
+  }
+  EXPECT_NEAR(refit.at("bias").get<double>(), file.at("bias").get<double>(),
+              0.1 * std::abs(file.at("bias").get<double>()) + 0.02);
+}
