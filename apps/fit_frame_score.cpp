@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
@@ -26,7 +27,7 @@ int main(int argc, char** argv) {
   double tip_tolerance = 0.010, ridge = 0.01;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
-  std::string rule, stereo = "elas";
+  std::string rule, stereo = "elas", compare;
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
   cli.add_option("--first-seed", first_seed, "Seed of the first grasp (away from evaluate-sessions' 100 and 200)")
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
   cli.add_option("-j,--jobs", jobs, "Sessions simulated in parallel (the fit does not depend on it)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 64u));
+  cli.add_option("--compare", compare,
+                 "A score JSON (configs/frame-score.json) whose mean log-likelihood on the same hypotheses is "
+                 "reported beside the fit's (compared_mean_log_likelihood)");
   command.add_output("The fitted score JSON (- for stdout)");
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
@@ -80,6 +84,27 @@ int main(int argc, char** argv) {
     toolinc::FrameScoreModel model;
     for (int f = 0; f < toolinc::kFrameFeatures; ++f) model.weights[f] = fit.weights[f];
     model.bias = fit.bias;
+    // Mean log-likelihood per hypothesis of a model on these labels: how well it explains them.
+    const auto mean_log_likelihood = [&](const toolinc::FrameScoreModel& m) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        const double z = m.log_odds(rows[i]);
+        sum += labels[i] * z - std::log1p(std::exp(-std::abs(z))) - std::max(z, 0.0);
+      }
+      return sum / static_cast<double>(rows.size());
+    };
+    toolinc::Json compared;
+    if (!compare.empty()) {
+      const toolinc::Json file = toolinc::read_json(compare);
+      toolinc::FrameScoreModel other;
+      try {
+        for (int f = 0; f < toolinc::kFrameFeatures; ++f) other.weights[f] = file.at("weights").at(f).get<double>();
+        other.bias = file.at("bias").get<double>();
+      } catch (const toolinc::Json::exception& e) {
+        throw toolinc::InputError(compare, std::string("not a frame score: ") + e.what());
+      }
+      compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(other)}};
+    }
 
     // What the search would choose on the sessions it was fitted on, beside the rules' hypothesis (the
     // first: the rules' side about the whole tool's fitted axis is not always the rules' handle, so this
@@ -123,6 +148,8 @@ int main(int argc, char** argv) {
                                            {"right", positives},
                                            {"features", features},
                                            {"weights", weights},
-                                           {"bias", model.bias}});
+                                           {"bias", model.bias},
+                                           {"mean_log_likelihood", mean_log_likelihood(model)},
+                                           {"compared", compared}});
   });
 }

@@ -109,25 +109,28 @@ TEST(FrameSearch, ShippedWeightsAreTheShippedFilesAndTheMethodIsRecorded) {
 }
 
 TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
-  // The fit is rerun as the file says it was made. Its labels are tooltips within 10 mm, and a few
-  // hypotheses lie within a millimetre of that on either side, where the compilers' rounding of the
-  // simulated disparities decides: the weights agree within a tenth of their size (plus 0.02).
-  const Json file = read_json(std::string(kSourceDir) + "/configs/frame-score.json");
+  // The fit is rerun as the file says it was made, and the shipped model must explain the refit's labels
+  // as well as the refit does. Not the weights themselves: the labels are tooltips within 10 mm, a few
+  // hypotheses lie within a millimetre of that, and the compilers' rounding of the simulated disparities
+  // decides those (a Clang build's refit moved the mirror score's weight from -9.5 to -11.1), while the
+  // likelihood barely moves: the shipped model's mean log-likelihood per hypothesis fell short of the
+  // refit's by 0 in a GCC build and 0.001 in a Clang build; the bound is 0.005. A change to the features,
+  // the frame or the simulator without a refit moves it further.
+  const std::string shipped = std::string(kSourceDir) + "/configs/frame-score.json";
+  const Json file = read_json(shipped);
   const Json& on = file.at("fitted_on");
   std::string families;
   for (const auto& f : on.at("families")) families += " " + f.get<std::string>();
   const auto dir = scratch_dir("fit-frame-score");
-  const ToolRun run =
-      run_tool("fit-frame-score", "-q -j 2 --families" + families + " --first-seed " +
-                                      std::to_string(on.at("first_seed").get<int>()) + " --grasps " +
-                                      std::to_string(on.at("grasps").get<int>()) + " --stereo " +
-                                      on.at("stereo").get<std::string>() + " -o " + (dir / "score.json").string());
+  const ToolRun run = run_tool("fit-frame-score", "-q -j 2 --families" + families + " --first-seed " +
+                                                      std::to_string(on.at("first_seed").get<int>()) + " --grasps " +
+                                                      std::to_string(on.at("grasps").get<int>()) + " --stereo " +
+                                                      on.at("stereo").get<std::string>() + " --compare " + shipped +
+                                                      " -o " + (dir / "score.json").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json refit = read_json((dir / "score.json").string());
-  for (int f = 0; f < kFrameFeatures; ++f) {
-    const double shipped = file.at("weights")[f].get<double>(), again = refit.at("weights")[f].get<double>();
-    EXPECT_NEAR(again, shipped, 0.1 * std::abs(shipped) + 0.02) << frame_feature_names()[f];
-  }
-  EXPECT_NEAR(refit.at("bias").get<double>(), file.at("bias").get<double>(),
-              0.1 * std::abs(file.at("bias").get<double>()) + 0.02);
+  const double best = refit.at("mean_log_likelihood").get<double>();
+  const double of_shipped = refit.at("compared").at("mean_log_likelihood").get<double>();
+  EXPECT_LE(of_shipped, best + 1e-12);
+  EXPECT_GT(of_shipped, best - 0.005) << "the shipped weights no longer fit what the command labels";
 }
