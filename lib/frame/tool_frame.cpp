@@ -816,14 +816,22 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
 ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints) {
   if (config.method == FrameMethod::search) {
     const auto hypotheses = frame_hypotheses(input, config, viewpoints);
-    const auto best = std::max_element(hypotheses.begin(), hypotheses.end(),
-                                       [](const auto& a, const auto& b) { return a.log_odds < b.log_odds; });
-    ToolFrame frame = best->frame;
+    std::vector<std::size_t> order(hypotheses.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return hypotheses[a].log_odds > hypotheses[b].log_odds; });
+    const FrameHypothesis& best = hypotheses[order.front()];
+    ToolFrame frame = best.frame;
+    for (const std::size_t i : order) {
+      const FrameHypothesis& h = hypotheses[i];
+      frame.diagnostics.hypotheses.push_back({h.handle_source, h.side_reversed, 1.0 / (1.0 + std::exp(-h.log_odds)),
+                                              h.frame.effector_axis(), h.frame.handle_axis()});
+    }
     // How likely the chosen hypothesis is right, as the fitted model says; below even odds it is doubtful.
-    const double probability = 1.0 / (1.0 + std::exp(-best->log_odds));
+    const double probability = frame.diagnostics.hypotheses.front().probability;
     frame.confidence.check(2.0 * probability - 1.0,
                            fmt::format("the search's best hypothesis ({}{}) is right with probability {:.2f} only",
-                                       best->handle_source, best->side_reversed ? ", other side" : "", probability));
+                                       best.handle_source, best.side_reversed ? ", other side" : "", probability));
     return frame;
   }
   const Prepared p = prepare(input, config);

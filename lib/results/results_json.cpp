@@ -39,7 +39,7 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
   const Json candidates = planes_json(frame.diagnostics.symmetry_candidates);
   Json frame_settings = settings_json(config, tool_frame_parameters());
   frame_settings["method"] = to_string(config.method);
-  return {
+  Json json = {
       {"type", "tool_frame"},
       {"version", 1},
       {"frame", "hand"},
@@ -92,6 +92,17 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
         {"hand_to_handle_m", frame.diagnostics.hand_to_handle}}},
       {"settings", frame_settings},
   };
+  if (!frame.diagnostics.hypotheses.empty()) {
+    Json hypotheses = Json::array();
+    for (const auto& h : frame.diagnostics.hypotheses)
+      hypotheses.push_back({{"handle", h.handle_source},
+                            {"other_side", h.other_side},
+                            {"probability", h.probability},
+                            {"effector_axis", to_json(h.effector_axis)},
+                            {"handle_axis", to_json(h.handle_axis)}});
+    json["diagnostics"]["hypotheses"] = hypotheses;
+  }
+  return json;
 }
 
 ToolFrame read_tool_frame(const std::string& path) { return tool_frame_from_json(read_json(path), path); }

@@ -37,6 +37,17 @@ def test_frame_tooltip_truth_evaluation(tool, tmp_path, family):
     check("evaluation", evaluation)
 
 
+def test_frame_search_records_its_hypotheses(tool, tmp_path):
+    frame, tip = tmp_path / "frame.json", tmp_path / "tip.json"
+    assert tool("estimate-frame", HELD / "hook.ply", "--method", "search", "-o", frame, "-q").returncode == 0
+    document = check("tool_frame", frame)
+    hypotheses = document["diagnostics"]["hypotheses"]
+    assert document["settings"]["method"] == "search" and len(hypotheses) >= 4
+    assert [h["probability"] for h in hypotheses] == sorted((h["probability"] for h in hypotheses), reverse=True)
+    assert tool("find-tooltip", HELD / "hook.ply", "--frame", frame, "-o", tip, "-q").returncode == 0
+    check("tooltip", tip)
+
+
 def test_generated_truth_and_pose(tool, tmp_path):
     model, held, truth = tmp_path / "model.ply", tmp_path / "held.ply", tmp_path / "truth.json"
     pose, tip = tmp_path / "pose.json", tmp_path / "tip.json"

@@ -110,6 +110,14 @@ struct SymmetryCandidate {
   double score;  // the sweep's score (by contradiction): 0 perfect mirror, 1 none
 };
 
+// One hypothesis of the frame search, for the record.
+struct ScoredHypothesis {
+  std::string handle_source;  // which candidate handle
+  bool other_side = false;    // the effector on the other side from the one the rules take about that handle
+  double probability = 0.0;   // that its tooltip lies within 10 mm of the truth, as the fitted score says
+  Vec3 effector_axis = Vec3::Zero(), handle_axis = Vec3::Zero();
+};
+
 // How the frame was found: for the record (the tool_frame JSON's diagnostics), not for use.
 struct ToolFrameDiagnostics {
   Vec3 centroid = Vec3::Zero();                             // mean of the resampled points (before projection)
@@ -133,6 +141,8 @@ struct ToolFrameDiagnostics {
   double head_curl = 0.0;                      // m: how far the head's edges rise along +X above its middle,
                                                // measured when the head is thinnest along X
   int points_input = 0, points_outside_hand = 0, points_used = 0;
+  std::vector<ScoredHypothesis> hypotheses;  // the search's, the chosen first, then by probability; empty
+                                             // under the rules
 };
 
 struct ToolFrame {
