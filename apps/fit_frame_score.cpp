@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
@@ -54,6 +55,18 @@ int main(int argc, char** argv) {
   return command.run(argc, argv, [&] {
     if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
+    // The score to compare with, read before the long run so that a bad file fails at once.
+    std::optional<toolinc::FrameScoreModel> other;
+    if (!compare.empty()) {
+      const toolinc::Json file = toolinc::read_json(compare);
+      other.emplace();
+      try {
+        for (int f = 0; f < toolinc::kFrameFeatures; ++f) other->weights[f] = file.at("weights").at(f).get<double>();
+        other->bias = file.at("bias").get<double>();
+      } catch (const toolinc::Json::exception& e) {
+        throw toolinc::InputError(compare, std::string("not a frame score: ") + e.what());
+      }
+    }
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));
     if (families.empty()) families = toolinc::all_families();
@@ -94,17 +107,7 @@ int main(int argc, char** argv) {
       return sum / static_cast<double>(rows.size());
     };
     toolinc::Json compared;
-    if (!compare.empty()) {
-      const toolinc::Json file = toolinc::read_json(compare);
-      toolinc::FrameScoreModel other;
-      try {
-        for (int f = 0; f < toolinc::kFrameFeatures; ++f) other.weights[f] = file.at("weights").at(f).get<double>();
-        other.bias = file.at("bias").get<double>();
-      } catch (const toolinc::Json::exception& e) {
-        throw toolinc::InputError(compare, std::string("not a frame score: ") + e.what());
-      }
-      compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(other)}};
-    }
+    if (other) compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(*other)}};
 
     // What the search would choose on the sessions it was fitted on, beside the rules' hypothesis (the
     // first: the rules' side about the whole tool's fitted axis is not always the rules' handle, so this
