@@ -1,7 +1,6 @@
 #include "toolinc/core/logistic.hpp"
 
 #include <Eigen/Cholesky>
-#include <cmath>
 #include <stdexcept>
 
 namespace toolinc {
@@ -28,10 +27,6 @@ LogisticFit fit_logistic(const Eigen::MatrixXd& rows, const std::vector<int>& la
     beta += step;
     if (step.cwiseAbs().maxCoeff() < 1e-10) break;
   }
-  const Eigen::VectorXd z = x * beta;
-  fit.log_likelihood = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i)
-    fit.log_likelihood += y[i] * z[i] - std::log1p(std::exp(-std::abs(z[i]))) - std::max(z[i], 0.0);
   fit.weights = beta.head(d);
   fit.bias = beta[d];
   return fit;

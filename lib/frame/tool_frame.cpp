@@ -493,10 +493,10 @@ std::vector<std::pair<std::string, HandleFit>> handle_candidates(const Points& c
 }
 
 // The frame about a given handle: the symmetry plane through it, the effector axis and its side, the
-// head's kind and the doubts. `frame` holds what preparing the cloud found.
+// head's kind and the doubts. `frame` holds what preparing the cloud found; free_space, where the sensors
+// saw empty space (null without viewpoints).
 ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const PrincipalAxes& principal,
-                             const HandleFit& handle, const FreeSpace& free_space, bool with_views,
-                             const ToolFrameConfig& config) {
+                             const HandleFit& handle, const FreeSpace* free_space, const ToolFrameConfig& config) {
   const Vec3 y_axis = handle.axis.normalized();
   frame.handle_point = handle.point;
   frame.diagnostics.handle_points = handle.points;
@@ -530,8 +530,8 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   frame.diagnostics.head_extent = effector_extent(cloud, principal.centroid, handle_line, config.salience_quantile);
   frame.stick = frame.diagnostics.head_extent < config.stick_width;
   const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                              config.symmetry_tolerance, config.symmetry_match_weight,
-                              with_views ? &free_space : nullptr, config.symmetry_normal_neighbors,
+                              config.symmetry_tolerance, config.symmetry_match_weight, free_space,
+                              config.symmetry_normal_neighbors,
                               static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr);
   const auto score_at = [&](double angle) { return scorer.score(normal_at(angle), centre); };
   const double step = config.symmetry_step_deg * kDeg;
@@ -712,10 +712,6 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   return frame;
 }
 
-}  // namespace
-
-namespace {
-
 // The cloud as every method uses it: the hand's points removed, resampled, stray points dropped; its
 // principal axes; and the frame's record of it.
 struct Prepared {
@@ -802,7 +798,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   std::vector<FrameHypothesis> hypotheses;
   for (const auto& [source, handle] : handle_candidates(p.cloud, p.principal, config)) {
     const ToolFrame frame =
-        frame_about_handle(p.frame, p.cloud, p.principal, handle, free_space, !viewpoints.empty(), config);
+        frame_about_handle(p.frame, p.cloud, p.principal, handle, viewpoints.empty() ? nullptr : &free_space, config);
     for (const bool reversed : {false, true}) {
       FrameHypothesis h{reversed ? other_side(frame) : frame, source, reversed, {}, 0.0};
       h.features = features_of(h.frame, p.cloud, held_axis, config);
@@ -836,8 +832,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   }
   const Prepared p = prepare(input, config);
   const FreeSpace free_space(p.cloud, viewpoints);
-  return frame_about_handle(p.frame, p.cloud, p.principal, rule_handle(p.cloud, p.principal, config), free_space,
-                            !viewpoints.empty(), config);
+  return frame_about_handle(p.frame, p.cloud, p.principal, rule_handle(p.cloud, p.principal, config),
+                            viewpoints.empty() ? nullptr : &free_space, config);
 }
 
 std::string to_string(FrameMethod method) { return method == FrameMethod::search ? "search" : "rules"; }

@@ -11,7 +11,6 @@ struct LogisticFit {
   Eigen::VectorXd weights;  // one per column of the features
   double bias = 0.0;
   int iterations = 0;
-  double log_likelihood = 0.0;
 };
 
 // rows: one sample per row; labels: 0 or 1 per row. ridge: the L2 penalty on the weights (not the bias).
