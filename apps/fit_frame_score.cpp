@@ -1,9 +1,13 @@
-// fit-frame-score [--families F...] [--first-seed S] [--grasps N] [--stereo M] [-j J] -o SCORE.json: fits the
-// frame search's score (frame_search.hpp) on simulated sessions of the generated families: every frame
-// hypothesis on each session's merged model is labelled right when its tooltip lies within --tip-tolerance
-// of the truth carried by the true model aligned onto the merge, and a logistic model of the hypotheses'
-// features is fitted to those labels. The real tools, the CAD models and the robot's reconstructions are
-// never fitted on: they are the exam. The output is configs/frame-score.json's contents.
+// fit-frame-score [--families F...] [--first-seed S] [--grasps N] [--calibration-first-seed S]
+// [--calibration-grasps N] [--stereo M] [-j J] -o SCORE.json: fits the frame search's score (frame_search.hpp)
+// on simulated sessions of the generated families. Every frame hypothesis on each session's merged model is
+// labelled right when its tooltip lies within --tip-tolerance of the truth carried by the true model aligned
+// onto the merge, and a choice model of the hypotheses' features is fitted so that each session's right ones
+// are the likely ones. On sessions of other seeds, never fitted on, the chosen hypotheses' probabilities
+// are compared with how often their tooltips were right (the calibration table), and the probability from
+// which 98 % of chosen tooltips lie within 15 mm becomes the confidence threshold. The real tools, the CAD
+// models and the robot's reconstructions are never fitted on: they are the exam. The output is
+// configs/frame-score.json's contents.
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
@@ -14,29 +18,100 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/app/progress.hpp"
+#include "toolinc/core/choice_model.hpp"
 #include "toolinc/core/error.hpp"
-#include "toolinc/core/logistic.hpp"
+#include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
+
+namespace {
+
+using Hypotheses = std::vector<toolinc::LabelledHypothesis>;
+
+// The hypothesis a model chooses on one session, and its tooltip's probability among that session's.
+struct Choice {
+  const toolinc::LabelledHypothesis* chosen;
+  double probability;
+};
+Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypotheses, double radius) {
+  std::vector<double> scores;
+  std::vector<std::optional<toolinc::Vec3>> tooltips;
+  for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip);
+  const auto best = static_cast<std::size_t>(std::max_element(scores.begin(), scores.end()) - scores.begin());
+  return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, radius)};
+}
+
+// Mean log-probability the model gives a session's right hypotheses (shared equally among them), over the
+// sessions with right and wrong ones: how well it explains the labels.
+double mean_log_likelihood(const toolinc::FrameScoreModel& model, const std::vector<Hypotheses>& sessions,
+                           double tolerance) {
+  double sum = 0.0;
+  int counted = 0;
+  for (const auto& hypotheses : sessions) {
+    std::vector<double> scores;
+    int right = 0;
+    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += h.tooltip_m <= tolerance;
+    if (right == 0 || right == static_cast<int>(hypotheses.size())) continue;
+    const double top = *std::max_element(scores.begin(), scores.end());
+    double total = 0.0;
+    for (const double z : scores) total += std::exp(z - top);
+    for (std::size_t i = 0; i < hypotheses.size(); ++i)
+      if (hypotheses[i].tooltip_m <= tolerance) sum += (scores[i] - top - std::log(total)) / right;
+    ++counted;
+  }
+  return sum / std::max(counted, 1);
+}
+
+// The lowest probability from which the chosen tooltips within `tolerance` are at least `precision` of
+// those chosen (the longest run, from the most probable down, that keeps it); 1 when none does.
+double confident_probability(std::vector<std::pair<double, bool>> chosen, double precision) {
+  std::sort(chosen.begin(), chosen.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  double threshold = 1.0;
+  int right = 0;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    right += chosen[i].second;
+    const bool tie_follows = i + 1 < chosen.size() && chosen[i + 1].first == chosen[i].first;
+    if (!tie_follows && right >= precision * static_cast<double>(i + 1)) threshold = chosen[i].first;
+  }
+  return threshold;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   toolinc::Command command("fit-frame-score", "Fit the frame search's score on simulated sessions of the families",
                            {"estimate-frame", "find-tooltip", "fit-frame-score"});
   std::vector<std::string> family_names;
-  std::uint32_t first_seed = 1000;
-  int grasps = 16;
-  double tip_tolerance = 0.010, ridge = 0.01;
+  std::uint32_t first_seed = 1000, calibration_first_seed = 2000;
+  int grasps = 16, calibration_grasps = 8;
+  double tip_tolerance = 0.010, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "elas", compare;
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
-  cli.add_option("--first-seed", first_seed, "Seed of the first grasp (away from evaluate-sessions' 100 and 200)")
+  cli.add_option("--first-seed", first_seed,
+                 "Seed of the first grasp fitted on (away from evaluate-sessions' 100 and 200)")
       ->capture_default_str();
-  cli.add_option("--grasps", grasps, "Sessions per family")->capture_default_str()->check(CLI::Range(1, 10000));
+  cli.add_option("--grasps", grasps, "Sessions per family fitted on")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000));
+  cli.add_option("--calibration-first-seed", calibration_first_seed,
+                 "Seed of the first grasp the confidence is calibrated on (never fitted on)")
+      ->capture_default_str();
+  cli.add_option("--calibration-grasps", calibration_grasps, "Sessions per family the confidence is calibrated on")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000));
   cli.add_option("--tip-tolerance", tip_tolerance, "m: a hypothesis whose tooltip lies this close is right")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 0.1));
+  cli.add_option("--confident-tolerance", confident_tolerance,
+                 "m: a confident tooltip must lie this close to the truth ...")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 0.1));
+  cli.add_option("--precision", precision, "... in this share of the calibration sessions called confident")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 1.0));
   cli.add_option("--ridge", ridge, "L2 penalty on the weights (features are of order 1)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
@@ -48,7 +123,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 64u));
   cli.add_option("--compare", compare,
                  "A score JSON (configs/frame-score.json) whose mean log-likelihood on the same hypotheses is "
-                 "reported beside the fit's (compared_mean_log_likelihood)");
+                 "reported beside the fit's (compared.mean_log_likelihood)");
   command.add_output("The fitted score JSON (- for stdout)");
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
@@ -62,7 +137,6 @@ int main(int argc, char** argv) {
       other.emplace();
       try {
         for (int f = 0; f < toolinc::kFrameFeatures; ++f) other->weights[f] = file.at("weights").at(f).get<double>();
-        other->bias = file.at("bias").get<double>();
       } catch (const toolinc::Json::exception& e) {
         throw toolinc::InputError(compare, std::string("not a frame score: ") + e.what());
       }
@@ -70,76 +144,92 @@ int main(int argc, char** argv) {
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));
     if (families.empty()) families = toolinc::all_families();
+    // The sessions fitted on, then those calibrated on; each writes only its own slot, so any -j gives the
+    // same fit.
     struct Case {
       toolinc::ToolFamily family;
       std::uint32_t seed;
-      std::vector<toolinc::LabelledHypothesis> hypotheses;
     };
     std::vector<Case> cases;
     for (const auto family : families)
-      for (int g = 0; g < grasps; ++g) cases.push_back({family, first_seed + static_cast<std::uint32_t>(g), {}});
-    // Each case writes only its own slot: the fit is the same for any -j.
+      for (int g = 0; g < grasps; ++g) cases.push_back({family, first_seed + static_cast<std::uint32_t>(g)});
+    const std::size_t fitted = cases.size();
+    for (const auto family : families)
+      for (int g = 0; g < calibration_grasps; ++g)
+        cases.push_back({family, calibration_first_seed + static_cast<std::uint32_t>(g)});
+    std::vector<Hypotheses> labelled(cases.size());
     toolinc::run_in_parallel(cases.size(), jobs, toolinc::Progress("labelling frame hypotheses"), [&](std::size_t i) {
       toolinc::SessionSimulatorConfig session = toolinc::family_session(cases[i].family, cases[i].seed);
       session.stereo = toolinc::stereo_model_from_string(stereo);
-      cases[i].hypotheses = toolinc::labelled_frame_hypotheses(session, pipeline);
+      labelled[i] = toolinc::labelled_frame_hypotheses(session, pipeline);
     });
+    const std::vector<Hypotheses> fit_on(labelled.begin(), labelled.begin() + static_cast<std::ptrdiff_t>(fitted)),
+        calibrate_on(labelled.begin() + static_cast<std::ptrdiff_t>(fitted), labelled.end());
 
     std::vector<std::array<double, toolinc::kFrameFeatures>> rows;
-    std::vector<int> labels;
-    for (const auto& c : cases)
-      for (const auto& h : c.hypotheses) rows.push_back(h.features), labels.push_back(h.tooltip_m <= tip_tolerance);
+    std::vector<int> labels, groups;
+    for (std::size_t i = 0; i < fit_on.size(); ++i)
+      for (const auto& h : fit_on[i]) {
+        rows.push_back(h.features);
+        labels.push_back(h.tooltip_m <= tip_tolerance);
+        groups.push_back(static_cast<int>(i));
+      }
     if (rows.empty()) throw toolinc::MethodError("no session gave a hypothesis to fit on");
     Eigen::MatrixXd x(static_cast<Eigen::Index>(rows.size()), toolinc::kFrameFeatures);
     for (std::size_t i = 0; i < rows.size(); ++i)
       for (int f = 0; f < toolinc::kFrameFeatures; ++f) x(static_cast<Eigen::Index>(i), f) = rows[i][f];
-    const toolinc::LogisticFit fit = toolinc::fit_logistic(x, labels, ridge);
+    const toolinc::ChoiceFit fit = toolinc::fit_choice_model(x, labels, groups, ridge);
     toolinc::FrameScoreModel model;
     for (int f = 0; f < toolinc::kFrameFeatures; ++f) model.weights[f] = fit.weights[f];
-    model.bias = fit.bias;
-    // Mean log-likelihood per hypothesis of a model on these labels: how well it explains them.
-    const auto mean_log_likelihood = [&](const toolinc::FrameScoreModel& m) {
-      double sum = 0.0;
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        const double z = m.log_odds(rows[i]);
-        sum += labels[i] * z - std::log1p(std::exp(-std::abs(z))) - std::max(z, 0.0);
-      }
-      return sum / static_cast<double>(rows.size());
-    };
-    toolinc::Json compared;
-    if (other) compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(*other)}};
 
-    // What the search would choose on the sessions it was fitted on, beside the rules' hypothesis (the
-    // first: the rules' side about the whole tool's fitted axis is not always the rules' handle, so this
-    // is a check of the fit, not the exam: evaluate-sessions --method search is).
-    int sessions = 0, chosen_right = 0, any_right = 0;
-    for (const auto& c : cases) {
-      if (c.hypotheses.empty()) continue;
-      ++sessions;
-      const auto best = std::max_element(c.hypotheses.begin(), c.hypotheses.end(), [&](const auto& a, const auto& b) {
-        return model.log_odds(a.features) < model.log_odds(b.features);
-      });
-      chosen_right += best->tooltip_m <= tip_tolerance;
-      any_right += std::any_of(c.hypotheses.begin(), c.hypotheses.end(),
+    // On the sessions never fitted on: the chosen hypotheses' probabilities against their tooltips' errors.
+    std::vector<std::pair<double, bool>> chosen;
+    int chosen_right = 0, any_right = 0;
+    for (const auto& hypotheses : calibrate_on) {
+      if (hypotheses.empty()) continue;
+      const Choice c = choose(model, hypotheses, pipeline.tooltip.ambiguity_distance);
+      chosen.emplace_back(c.probability, c.chosen->tooltip_m <= confident_tolerance);
+      chosen_right += c.chosen->tooltip_m <= tip_tolerance;
+      any_right += std::any_of(hypotheses.begin(), hypotheses.end(),
                                [&](const auto& h) { return h.tooltip_m <= tip_tolerance; });
     }
+    model.confident_probability = confident_probability(chosen, precision);
+    toolinc::Json calibration = toolinc::Json::array();
+    for (int bin = 0; bin < 5; ++bin) {
+      const double lo = 0.2 * bin, hi = 0.2 * (bin + 1);
+      int n = 0, right = 0;
+      double predicted = 0.0;
+      for (const auto& [p, ok] : chosen)
+        if (p >= lo && (p < hi || bin == 4)) ++n, right += ok, predicted += p;
+      if (n > 0)
+        calibration.push_back({{"probability", {lo, hi}},
+                               {"sessions", n},
+                               {"mean_probability", predicted / n},
+                               {"within_confident_tolerance", static_cast<double>(right) / n}});
+    }
+    int confident = 0, confident_right = 0;
+    for (const auto& [p, ok] : chosen)
+      confident += p >= model.confident_probability, confident_right += ok && p >= model.confident_probability;
     int positives = 0;
     for (const int label : labels) positives += label;
     std::printf(
-        "fitted on %zu hypotheses of %d sessions (%d right); the search's choice right on %d sessions, "
-        "some hypothesis right on %d\n",
-        rows.size(), sessions, positives, chosen_right, any_right);
+        "fitted on %zu hypotheses of %zu sessions (%d right); on %zu calibration sessions the choice is right on %d, "
+        "some hypothesis on %d; confident from probability %.3f: %d sessions, %d of them within %.0f mm\n",
+        rows.size(), fit_on.size(), positives, chosen.size(), chosen_right, any_right, model.confident_probability,
+        confident, confident_right, 1000 * confident_tolerance);
     toolinc::Json features = toolinc::Json::array(), weights = toolinc::Json::array();
     for (int f = 0; f < toolinc::kFrameFeatures; ++f) {
       features.push_back(toolinc::frame_feature_names()[f]);
       weights.push_back(model.weights[f]);
       std::printf("%-36s %+9.4f\n", toolinc::frame_feature_names()[f], model.weights[f]);
     }
-    std::printf("%-36s %+9.4f\n", "bias", model.bias);
     std::vector<std::string> names;
     for (const auto family : families) names.push_back(toolinc::to_string(family));
+    toolinc::Json compared;
+    if (other)
+      compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(*other, fit_on, tip_tolerance)}};
     toolinc::write_json(command.output(), {{"type", "frame_score"},
-                                           {"version", 1},
+                                           {"version", 2},
                                            {"fitted_on",
                                             {{"families", names},
                                              {"first_seed", first_seed},
@@ -147,12 +237,24 @@ int main(int argc, char** argv) {
                                              {"stereo", stereo},
                                              {"tip_tolerance_m", tip_tolerance},
                                              {"ridge", ridge}}},
+                                           {"calibrated_on",
+                                            {{"first_seed", calibration_first_seed},
+                                             {"grasps", calibration_grasps},
+                                             {"confident_tolerance_m", confident_tolerance},
+                                             {"precision", precision}}},
                                            {"hypotheses", rows.size()},
                                            {"right", positives},
                                            {"features", features},
                                            {"weights", weights},
-                                           {"bias", model.bias},
-                                           {"mean_log_likelihood", mean_log_likelihood(model)},
+                                           {"confident_probability", model.confident_probability},
+                                           {"calibration",
+                                            {{"sessions", chosen.size()},
+                                             {"chosen_right", chosen_right},
+                                             {"some_hypothesis_right", any_right},
+                                             {"confident", confident},
+                                             {"confident_within_tolerance", confident_right},
+                                             {"table", calibration}}},
+                                           {"mean_log_likelihood", mean_log_likelihood(model, fit_on, tip_tolerance)},
                                            {"compared", compared}});
   });
 }

@@ -18,6 +18,7 @@
 #include "toolinc/core/scatter.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/frame/frame_search.hpp"
+#include "toolinc/frame/tooltip.hpp"
 
 namespace toolinc {
 namespace {
@@ -496,7 +497,8 @@ std::vector<std::pair<std::string, HandleFit>> handle_candidates(const Points& c
 // head's kind and the doubts. `frame` holds what preparing the cloud found; free_space, where the sensors
 // saw empty space (null without viewpoints).
 ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const PrincipalAxes& principal,
-                             const HandleFit& handle, const FreeSpace* free_space, const ToolFrameConfig& config) {
+                             const HandleFit& handle, const FreeSpace* free_space, const ToolFrameConfig& config,
+                             std::optional<double> plane_angle_deg = std::nullopt) {
   const Vec3 y_axis = handle.axis.normalized();
   frame.handle_point = handle.point;
   frame.diagnostics.handle_points = handle.points;
@@ -543,7 +545,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
   // effector reaches farthest, since the effector axis is the head's forward extent.
   const auto& sweep = frame.diagnostics.symmetry_candidates;
-  const std::optional<Vec3> blade = blade_across(cloud, head, centre, y_axis, u, v, config);
+  std::optional<Vec3> blade = blade_across(cloud, head, centre, y_axis, u, v, config);
   frame.diagnostics.head_is_blade = blade.has_value();
   // A front that is a corner, not a face, loses to one that is.
   double best_angle = 0.0;
@@ -569,13 +571,21 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
     const double across = std::atan2(blade->dot(v), blade->dot(u));
     best_angle = golden_minimum(score_at, across - step, across + step, 8).first;
   }
+  // A plane the search asks for instead, refined by the mirror within a step; a blade only when that is
+  // the plane across it.
+  if (plane_angle_deg) {
+    const double asked = *plane_angle_deg * kDeg;
+    if (std::abs(std::remainder(asked - best_angle, M_PI)) > 1.5 * step) blade.reset();
+    best_angle = golden_minimum(score_at, asked - step, asked + step, 8).first;
+  }
   // A bar's half-seen surface mirrors best across planes facing the cameras, but the bar's axis does
   // not depend on which side was seen: when the head is a bar along the chosen plane, the plane is
   // parallel to the handle and contains the bar's axis. Otherwise it contains the handle's axis line.
   double offset = 0.0;
   frame.symmetry_plane_rule =
-      blade ? "across the blade (a plate continuing the handle, centred on its axis), whose own plane any thin "
-              "plate mirrors across"
+      plane_angle_deg ? "the search's alternative plane: another basin of the mirror sweep, or a quarter turn"
+      : blade ? "across the blade (a plate continuing the handle, centred on its axis), whose own plane any thin "
+                "plate mirrors across"
       : frame.tied_planes.size() < 2
           ? "best mirror about the handle axis"
           : fmt::format(
@@ -749,42 +759,89 @@ ToolFrame other_side(ToolFrame frame) {
   return frame;
 }
 
-// A hypothesis's features, each in units of the parameter that gives it its physical scale:
-std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const Vec3& held_axis,
-                                               const ToolFrameConfig& c) {
+// A hypothesis's features, each in units of the parameter that gives it its physical scale and each
+// comparable between hypotheses (measured the same way whatever the candidate handle came from). held:
+// the part the hand holds (held-share), the same points for every hypothesis.
+std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const Points& held,
+                                               bool rules_plane, const ToolFrameConfig& c) {
   const Vec3 x = f.effector_axis(), y = f.handle_axis();
   const Cylinder handle{f.handle_point, y, 0.0, 0.0};
-  // The head's mean point along +X: the side its material lies on, which smear moves little.
-  double head_x = 0.0;
-  int head = 0;
-  for (const auto& p : cloud)
-    if ((p - f.diagnostics.centroid).dot(y) < 0 && radial_distance(handle, p) >= c.head_radius_factor * f.handle_radius)
-      head_x += (p - f.handle_point).dot(x), ++head;
+  // The head's mean point along +X, against its points' mean distance from the handle's axis: the side its
+  // material lies on (-1 to 1), which smear moves little.
+  double head_x = 0.0, head_out = 0.0;
+  for (const auto& p : cloud) {
+    const double out = radial_distance(handle, p);
+    if ((p - f.diagnostics.centroid).dot(y) < 0 && out >= c.head_radius_factor * f.handle_radius)
+      head_x += (p - f.handle_point).dot(x), head_out += out;
+  }
+  const double forward = f.diagnostics.effector_reach_positive, backward = f.diagnostics.effector_reach_negative;
+  // The hand closes on the handle: the held part lies within what it closes on of the handle's line.
+  int off_line = 0;
+  for (const auto& p : held) off_line += radial_distance(handle, p) > c.grasp_max_radius;
+  const double reach = f.diagnostics.hand_to_handle / c.grasp_reach, radius = f.handle_radius / c.grasp_max_radius;
   return {
-      f.handle_radius / c.grasp_max_radius,                // the handle's radius against what the hand closes on
-      f.diagnostics.hand_to_handle / c.grasp_reach,        // the handle's line's distance from the hand
-      f.diagnostics.handle_rms / c.handle_residual_scale,  // the handle fit's residual against the stereo noise
-      f.symmetry_score,                                    // the head's mirror residual (0 a mirror, 1 none)
-      (f.diagnostics.effector_reach_positive - f.diagnostics.effector_reach_negative) / c.salience_min,  // salience
+      reach,                        // the handle's line's distance from the hand
+      radius,                       // the handle's radius against what the hand closes on
+      std::max(0.0, radius - 1.0),  // ... beyond it
+      held.empty() ? 0.0 : static_cast<double>(off_line) / static_cast<double>(held.size()),  // held part off it
+      f.symmetry_score,         // the head's mirror residual
+      rules_plane ? 1.0 : 0.0,  // the plane the rules choose about this handle, not an alternative
+      // How much farther the effector reaches along +X than along -X, as a share of both (-1 to 1)
+      forward + backward > 0.0 ? (forward - backward) / (forward + backward) : 0.0,
       f.diagnostics.head_curl / c.head_curl_min,  // the head's edges rising towards +X (a scoop's concave side)
-      std::acos(std::min(1.0, std::abs(y.dot(held_axis)))) / (10.0 * kDeg),  // tilt from the held part's line
-      head > 0 ? head_x / head / c.salience_min : 0.0,                       // the head's side
+      head_out > 0.0 ? head_x / head_out : 0.0,   // the head's side
   };
+}
+
+// The planes the search tries about a handle: the rules' own, its quarter turn (a T or a flat top has
+// two mirror planes) and the sweep's rival basins, best first; each at most once (15 degrees apart), at
+// most kSearchPlanes.
+constexpr std::size_t kSearchPlanes = 3;
+std::vector<double> alternative_planes_deg(const ToolFrame& rules) {
+  const double chosen = rules.diagnostics.symmetry_candidates.back().angle_deg;
+  std::vector<double> taken{chosen}, asked{chosen + 90.0};
+  for (const auto& rival : rules.rival_planes) asked.push_back(rival.angle_deg);
+  std::vector<double> alternatives;
+  for (const double angle : asked) {
+    if (taken.size() >= kSearchPlanes) break;
+    if (std::none_of(taken.begin(), taken.end(),
+                     [&](double t) { return std::abs(std::remainder(angle - t, 180.0)) < 15.0; })) {
+      taken.push_back(angle);
+      alternatives.push_back(angle);
+    }
+  }
+  return alternatives;
 }
 
 }  // namespace
 
 const std::array<const char*, kFrameFeatures>& frame_feature_names() {
-  static const std::array<const char*, kFrameFeatures> names{
-      "handle_radius_per_grasp_max_radius", "hand_to_handle_per_grasp_reach",
-      "handle_rms_per_residual_scale",      "mirror_score",
-      "effector_salience_per_salience_min", "head_curl_per_curl_min",
-      "tilt_from_held_line_per_10_deg",     "head_mean_x_per_salience_min"};
+  static const std::array<const char*, kFrameFeatures> names{"hand_to_handle_per_grasp_reach",
+                                                             "handle_radius_per_grasp_max_radius",
+                                                             "beyond_grasp_max_radius",
+                                                             "held_share_off_handle",
+                                                             "mirror_score",
+                                                             "rules_plane",
+                                                             "effector_reach_asymmetry",
+                                                             "head_curl_per_curl_min",
+                                                             "head_side"};
   return names;
 }
 
+double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
+                           std::size_t chosen, double radius) {
+  if (!tooltips[chosen]) return 0.0;
+  double agreeing = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    const double weight = std::exp(scores[i] - scores[chosen]);
+    total += weight;
+    if (tooltips[i] && (*tooltips[i] - *tooltips[chosen]).norm() <= radius) agreeing += weight;
+  }
+  return agreeing / total;
+}
+
 double FrameScoreModel::log_odds(const std::array<double, kFrameFeatures>& features) const {
-  double sum = bias;
+  double sum = 0.0;
   for (int i = 0; i < kFrameFeatures; ++i) sum += weights[i] * features[i];
   return sum;
 }
@@ -793,18 +850,37 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
                                               const Points& viewpoints, const FrameScoreModel& model) {
   const Prepared p = prepare(input, config);
   const FreeSpace free_space(p.cloud, viewpoints);
-  const HandleFit held = held_line(p.cloud, config);
-  const Vec3 held_axis = held.points > 0 ? Vec3(held.axis.normalized()) : Vec3(p.principal.axes.col(0));
+  const FreeSpace* seen = viewpoints.empty() ? nullptr : &free_space;
+  const Points held = held_part(p.cloud, config.held_share);
+  TooltipConfig tooltip_config;
+  tooltip_config.hand_radius = config.hand_radius;
+  // The hand holds the handle: a candidate whose line passes beyond grasp-reach from it is no hypothesis,
+  // unless every candidate does.
+  auto candidates = handle_candidates(p.cloud, p.principal, config);
+  const auto beyond_reach = [&](const auto& candidate) {
+    const HandleFit& h = candidate.second;
+    return radial_distance(Cylinder{h.point, h.axis.normalized(), 0.0, 0.0}, Vec3::Zero()) > config.grasp_reach;
+  };
+  if (!std::all_of(candidates.begin(), candidates.end(), beyond_reach))
+    candidates.erase(std::remove_if(candidates.begin(), candidates.end(), beyond_reach), candidates.end());
   std::vector<FrameHypothesis> hypotheses;
-  for (const auto& [source, handle] : handle_candidates(p.cloud, p.principal, config)) {
-    const ToolFrame frame =
-        frame_about_handle(p.frame, p.cloud, p.principal, handle, viewpoints.empty() ? nullptr : &free_space, config);
-    for (const bool reversed : {false, true}) {
-      FrameHypothesis h{reversed ? other_side(frame) : frame, source, reversed, {}, 0.0};
-      h.features = features_of(h.frame, p.cloud, held_axis, config);
-      h.log_odds = model.log_odds(h.features);
-      hypotheses.push_back(std::move(h));
-    }
+  for (const auto& [source, handle] : candidates) {
+    const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config);
+    std::vector<ToolFrame> frames{rules};
+    for (const double angle : alternative_planes_deg(rules))
+      frames.push_back(frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config, angle));
+    for (std::size_t plane = 0; plane < frames.size(); ++plane)
+      for (const bool reversed : {false, true}) {
+        FrameHypothesis h{
+            reversed ? other_side(frames[plane]) : frames[plane], source, plane == 0, reversed, {}, 0.0, std::nullopt};
+        h.features = features_of(h.frame, p.cloud, held, plane == 0, config);
+        h.log_odds = model.log_odds(h.features);
+        try {
+          h.tooltip = find_tooltip(input, h.frame, tooltip_config).position;
+        } catch (const MethodError&) {  // nothing dense on this hypothesis's effector side
+        }
+        hypotheses.push_back(std::move(h));
+      }
   }
   return hypotheses;
 }
@@ -818,16 +894,34 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
                      [&](std::size_t a, std::size_t b) { return hypotheses[a].log_odds > hypotheses[b].log_odds; });
     const FrameHypothesis& best = hypotheses[order.front()];
     ToolFrame frame = best.frame;
+    // The choice model's probabilities: each hypothesis's share of exp(score) among them all.
+    std::vector<double> scores;
+    std::vector<std::optional<Vec3>> tooltips;
+    for (const auto& h : hypotheses) scores.push_back(h.log_odds), tooltips.push_back(h.tooltip);
+    double total = 0.0;
+    for (const double z : scores) total += std::exp(z - best.log_odds);
     for (const std::size_t i : order) {
       const FrameHypothesis& h = hypotheses[i];
-      frame.diagnostics.hypotheses.push_back({h.handle_source, h.side_reversed, 1.0 / (1.0 + std::exp(-h.log_odds)),
-                                              h.frame.effector_axis(), h.frame.handle_axis()});
+      frame.diagnostics.hypotheses.push_back({h.handle_source, h.rules_plane, h.side_reversed,
+                                              std::exp(h.log_odds - best.log_odds) / total, h.frame.effector_axis(),
+                                              h.frame.handle_axis(), h.tooltip});
     }
-    // How likely the chosen hypothesis is right, as the fitted model says; below even odds it is doubtful.
-    const double probability = frame.diagnostics.hypotheses.front().probability;
-    frame.confidence.check(2.0 * probability - 1.0,
-                           fmt::format("the search's best hypothesis ({}{}) is right with probability {:.2f} only",
-                                       best.handle_source, best.side_reversed ? ", other side" : "", probability));
+    // The rules' doubts are the search's features and alternatives: the confidence is the chosen tooltip's
+    // probability, against the level calibrated, on sessions the fit did not see, for 98 % of confident
+    // tooltips within 15 mm.
+    const double probability = tooltip_probability(scores, tooltips, order.front(), TooltipConfig{}.ambiguity_distance);
+    const double needed = fitted_frame_score().confident_probability;
+    frame.diagnostics.tooltip_probability = probability;
+    // The other planes and side are hypotheses the search weighed, not alternatives left open.
+    frame.tied_planes = {frame.diagnostics.symmetry_candidates.back()};
+    frame.rival_planes.clear();
+    frame.effector_side_clear = true;
+    frame.confidence = Confidence{};
+    frame.confidence.check(probability >= needed ? std::max((probability - needed) / std::max(1.0 - needed, 1e-9), 1e-9)
+                                                 : probability - needed,
+                           fmt::format("the search's tooltip ({}{}{}) is right with probability {:.2f}, below {:.2f}",
+                                       best.handle_source, best.rules_plane ? "" : ", another plane",
+                                       best.side_reversed ? ", other side" : "", probability, needed));
     return frame;
   }
   const Prepared p = prepare(input, config);

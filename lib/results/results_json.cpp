@@ -96,11 +96,14 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
     Json hypotheses = Json::array();
     for (const auto& h : frame.diagnostics.hypotheses)
       hypotheses.push_back({{"handle", h.handle_source},
+                            {"rules_plane", h.rules_plane},
                             {"other_side", h.other_side},
                             {"probability", h.probability},
                             {"effector_axis", to_json(h.effector_axis)},
-                            {"handle_axis", to_json(h.handle_axis)}});
+                            {"handle_axis", to_json(h.handle_axis)},
+                            {"tooltip", h.tooltip ? to_json(*h.tooltip) : Json()}});
     json["diagnostics"]["hypotheses"] = hypotheses;
+    json["diagnostics"]["tooltip_probability"] = frame.diagnostics.tooltip_probability;
   }
   return json;
 }

@@ -137,7 +137,7 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
         error = tooltip_error(m.relative, find_tooltip(m.merged.model.points, h.frame, pipeline.tooltip).position);
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
-      labelled.push_back({h.features, h.handle_source, h.side_reversed, error});
+      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error});
     }
   } catch (const MethodError&) {  // a degenerate merged model: nothing to learn from
     labelled.clear();

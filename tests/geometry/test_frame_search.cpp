@@ -1,16 +1,17 @@
 // The frame as a search over hypotheses: what it enumerates, that it keeps the best-scored one, that the
-// shipped weights are the shipped file's and that fit-frame-score reproduces that file; and the logistic
-// fit it rests on, against data drawn from known weights.
+// shipped weights are the shipped file's and that fit-frame-score reproduces that file; and the choice
+// model it rests on, against choices drawn from known weights.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "support/paths.hpp"
 #include "support/run_tool.hpp"
 #include "support/synthetic_cases.hpp"
-#include "toolinc/core/logistic.hpp"
+#include "toolinc/core/choice_model.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/frame/frame_search.hpp"
@@ -19,36 +20,48 @@
 using namespace toolinc;
 using namespace toolinc::testing;
 
-TEST(Logistic, RecoversTheWeightsItsDataWasDrawnFrom) {
-  // 20,000 samples of log-odds 0.5 + 2 a - 1 b: the weights' standard errors are about 0.03, so 0.15 is
-  // five of them.
+TEST(ChoiceModel, RecoversTheWeightsItsChoicesWereDrawnFrom) {
+  // 4,000 choices among 5 candidates, each drawn with probability exp(2 a - b) / sum: the weights' standard
+  // errors are about 0.03, so 0.15 is five of them.
   Rng rng(3);
-  const int n = 20000;
-  Eigen::MatrixXd rows(n, 2);
-  std::vector<int> labels(n);
-  for (int i = 0; i < n; ++i) {
-    rows(i, 0) = rng.gaussian();
-    rows(i, 1) = rng.gaussian();
-    const double p = 1.0 / (1.0 + std::exp(-(0.5 + 2.0 * rows(i, 0) - rows(i, 1))));
-    labels[i] = rng.uniform() < p;
+  const int choices = 4000, candidates = 5;
+  Eigen::MatrixXd rows(choices * candidates, 2);
+  std::vector<int> labels(rows.rows(), 0), groups(rows.rows());
+  for (int c = 0; c < choices; ++c) {
+    std::vector<double> p(candidates);
+    double total = 0.0;
+    for (int k = 0; k < candidates; ++k) {
+      const int i = c * candidates + k;
+      rows(i, 0) = rng.gaussian();
+      rows(i, 1) = rng.gaussian();
+      groups[i] = c;
+      total += p[k] = std::exp(2.0 * rows(i, 0) - rows(i, 1));
+    }
+    double u = rng.uniform() * total;
+    int k = 0;
+    while (k + 1 < candidates && (u -= p[k]) > 0) ++k;
+    labels[c * candidates + k] = 1;
   }
-  const LogisticFit fit = fit_logistic(rows, labels, 0.0);
+  const ChoiceFit fit = fit_choice_model(rows, labels, groups, 0.0);
+  EXPECT_EQ(fit.groups, choices);
   EXPECT_NEAR(fit.weights[0], 2.0, 0.15);
   EXPECT_NEAR(fit.weights[1], -1.0, 0.15);
-  EXPECT_NEAR(fit.bias, 0.5, 0.15);
 }
 
-TEST(Logistic, SeparableDataGivesFiniteWeights) {
-  Eigen::MatrixXd rows(4, 1);
-  rows << -2, -1, 1, 2;
-  const LogisticFit fit = fit_logistic(rows, {0, 0, 1, 1}, 0.01);
+TEST(ChoiceModel, SeparableDataGivesFiniteWeightsAndGroupsWithoutAChoiceSayNothing) {
+  Eigen::MatrixXd rows(6, 1);
+  rows << -2, 1, -1, 2, 5, 7;
+  // The right candidate is always the larger; the last group is all right and is left out.
+  const ChoiceFit fit = fit_choice_model(rows, {0, 1, 0, 1, 1, 1}, {0, 0, 1, 1, 2, 2}, 0.01);
+  EXPECT_EQ(fit.groups, 2);
   EXPECT_TRUE(std::isfinite(fit.weights[0]));
   EXPECT_GT(fit.weights[0], 1.0);
-  EXPECT_THROW(fit_logistic(rows, {0, 1}, 0.01), std::invalid_argument);
+  EXPECT_THROW(fit_choice_model(rows, {0, 1}, {0, 0}, 0.01), std::invalid_argument);
 }
 
-TEST(FrameSearch, HypothesesAreCandidateHandlesWithEitherSide) {
-  for (const ToolFamily family : {ToolFamily::hook, ToolFamily::hoe, ToolFamily::rake}) {
+TEST(FrameSearch, HypothesesAreCandidateHandlesAndPlanesWithEitherSide) {
+  int alternatives = 0;
+  for (const ToolFamily family : {ToolFamily::hook, ToolFamily::hoe, ToolFamily::rake, ToolFamily::t_bar}) {
     const HeldToolCase held = make_held_tool(family, 5);
     const auto hypotheses = frame_hypotheses(held.observed);
     ASSERT_GE(hypotheses.size(), 4u) << to_string(family);
@@ -59,17 +72,44 @@ TEST(FrameSearch, HypothesesAreCandidateHandlesWithEitherSide) {
       EXPECT_FALSE(hypotheses[i].side_reversed);
       EXPECT_TRUE(hypotheses[i + 1].side_reversed);
       EXPECT_EQ(hypotheses[i].handle_source, hypotheses[i + 1].handle_source);
-      EXPECT_TRUE(sources.insert(hypotheses[i].handle_source).second) << "a handle listed twice";
+      EXPECT_EQ(hypotheses[i].rules_plane, hypotheses[i + 1].rules_plane);
+      // Each handle first with the rules' plane, then its alternatives, which turn the plane about it.
+      if (hypotheses[i].rules_plane) {
+        EXPECT_TRUE(sources.insert(hypotheses[i].handle_source).second) << "a handle listed twice";
+      } else {
+        ++alternatives;
+        ASSERT_GE(i, 2u);
+        EXPECT_EQ(hypotheses[i].handle_source, hypotheses[i - 2].handle_source);
+        EXPECT_TRUE(rules_side.handle_axis().isApprox(hypotheses[i - 2].frame.handle_axis()));
+        EXPECT_LT(std::abs(rules_side.symmetry_axis().dot(hypotheses[i - 2].frame.symmetry_axis())),
+                  std::cos(M_PI / 180.0 * 10.0))
+            << "an alternative plane within 10 degrees of another";
+      }
       // The same handle and plane, the effector turned: still right-handed.
       EXPECT_TRUE(rules_side.handle_axis().isApprox(other.handle_axis()));
       EXPECT_TRUE(rules_side.effector_axis().isApprox(-other.effector_axis()));
       EXPECT_TRUE(is_rotation(other.axes, 1e-9));
       // The side's features change sign with the side; the handle's do not.
-      EXPECT_DOUBLE_EQ(hypotheses[i].features[4], -hypotheses[i + 1].features[4]);
+      EXPECT_DOUBLE_EQ(hypotheses[i].features[6], -hypotheses[i + 1].features[6]);
       EXPECT_DOUBLE_EQ(hypotheses[i].features[0], hypotheses[i + 1].features[0]);
       for (const double f : hypotheses[i].features) EXPECT_TRUE(std::isfinite(f));
     }
   }
+  EXPECT_GT(alternatives, 0) << "no handle had an alternative plane (at least its quarter turn)";
+}
+
+TEST(FrameSearch, TheTooltipsProbabilityIsTheShareOfTheHypothesesAgreeingOnIt) {
+  // Two hypotheses 5 mm apart (the same tip at 10 mm) and a third, twice as likely, 10 cm away.
+  const std::vector<double> scores{0.0, 0.0, std::log(2.0)};
+  const std::vector<std::optional<Vec3>> tips{Vec3(0.1, 0, 0), Vec3(0.105, 0, 0), Vec3(0.2, 0, 0)};
+  EXPECT_NEAR(tooltip_probability(scores, tips, 0, 0.01), 0.5, 1e-12);
+  EXPECT_NEAR(tooltip_probability(scores, tips, 2, 0.01), 0.5, 1e-12);
+  EXPECT_NEAR(tooltip_probability(scores, tips, 0, 0.001), 0.25, 1e-12);
+  EXPECT_NEAR(tooltip_probability(scores, tips, 0, 1.0), 1.0, 1e-12);
+  // A hypothesis without a tooltip has none to be sure of, and adds to no other's.
+  const std::vector<std::optional<Vec3>> one_missing{std::nullopt, Vec3(0.105, 0, 0), Vec3(0.2, 0, 0)};
+  EXPECT_EQ(tooltip_probability(scores, one_missing, 0, 0.01), 0.0);
+  EXPECT_NEAR(tooltip_probability(scores, one_missing, 1, 0.01), 0.25, 1e-12);
 }
 
 TEST(FrameSearch, KeepsTheMostLikelyHypothesis) {
@@ -84,11 +124,11 @@ TEST(FrameSearch, KeepsTheMostLikelyHypothesis) {
   EXPECT_TRUE(frame.axes.isApprox(hypotheses[best].frame.axes));
   // A model that scores only the effector's salience, against it: the least salient side wins.
   FrameScoreModel against_salience;
-  against_salience.weights[4] = -1.0;
+  against_salience.weights[6] = -1.0;
   const auto scored = frame_hypotheses(held.observed, config, {}, against_salience);
-  double least = scored.front().features[4];
-  for (const auto& h : scored) least = std::min(least, h.features[4]);
-  for (const auto& h : scored) EXPECT_DOUBLE_EQ(h.log_odds, -h.features[4]);
+  double least = scored.front().features[6];
+  for (const auto& h : scored) least = std::min(least, h.features[6]);
+  for (const auto& h : scored) EXPECT_DOUBLE_EQ(h.log_odds, -h.features[6]);
   EXPECT_LT(least, 0.0) << "some hypothesis has its effector on its less salient side";
 }
 
@@ -100,7 +140,7 @@ TEST(FrameSearch, ShippedWeightsAreTheShippedFilesAndTheMethodIsRecorded) {
     EXPECT_EQ(file.at("features")[f].get<std::string>(), frame_feature_names()[f]);
     EXPECT_DOUBLE_EQ(file.at("weights")[f].get<double>(), model.weights[f]) << frame_feature_names()[f];
   }
-  EXPECT_DOUBLE_EQ(file.at("bias").get<double>(), model.bias);
+  EXPECT_DOUBLE_EQ(file.at("confident_probability").get<double>(), model.confident_probability);
   const std::string cloud = std::string(kSourceDir) + "/data/held/hook.ply";
   const ToolRun run = run_tool("estimate-frame", "-q " + cloud + " --method search -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -118,15 +158,17 @@ TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
   // the frame or the simulator without a refit moves it further.
   const std::string shipped = std::string(kSourceDir) + "/configs/frame-score.json";
   const Json file = read_json(shipped);
-  const Json& on = file.at("fitted_on");
+  const Json &on = file.at("fitted_on"), &calibrated = file.at("calibrated_on");
   std::string families;
   for (const auto& f : on.at("families")) families += " " + f.get<std::string>();
   const auto dir = scratch_dir("fit-frame-score");
-  const ToolRun run = run_tool("fit-frame-score", "-q -j 2 --families" + families + " --first-seed " +
-                                                      std::to_string(on.at("first_seed").get<int>()) + " --grasps " +
-                                                      std::to_string(on.at("grasps").get<int>()) + " --stereo " +
-                                                      on.at("stereo").get<std::string>() + " --compare " + shipped +
-                                                      " -o " + (dir / "score.json").string());
+  const ToolRun run = run_tool(
+      "fit-frame-score",
+      "-q -j 2 --families" + families + " --first-seed " + std::to_string(on.at("first_seed").get<int>()) +
+          " --grasps " + std::to_string(on.at("grasps").get<int>()) + " --calibration-first-seed " +
+          std::to_string(calibrated.at("first_seed").get<int>()) + " --calibration-grasps " +
+          std::to_string(calibrated.at("grasps").get<int>()) + " --stereo " + on.at("stereo").get<std::string>() +
+          " --compare " + shipped + " -o " + (dir / "score.json").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json refit = read_json((dir / "score.json").string());
   const double best = refit.at("mean_log_likelihood").get<double>();

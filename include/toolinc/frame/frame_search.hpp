@@ -1,12 +1,14 @@
 // The tool frame as a search over hypotheses: every candidate handle (the fits started from the whole
 // tool's axis and from the held half's, the held part's trimmed line, the whole tool's principal line),
-// the frame completed about each (symmetry plane, effector axis, head kind), with either effector side.
-// Each hypothesis has features with a physical meaning; a logistic model fitted on simulated sessions of
-// the generated families (fit-frame-score, configs/frame-score.json) turns them into the probability
-// that the hypothesis's tooltip lies within 10 mm of the truth, and the search keeps the most likely.
+// about each the symmetry plane the rules choose and its alternatives (the quarter turn, the mirror
+// sweep's rival basins), each with either effector side. Each hypothesis has features with a physical
+// meaning, measured alike whatever the candidate; a choice model fitted on simulated sessions of the
+// generated families (fit-frame-score, configs/frame-score.json) turns them into the probability that it
+// is the right one among them (its tooltip within 10 mm of the truth), and the search keeps the most likely.
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +16,7 @@
 
 namespace toolinc {
 
-constexpr int kFrameFeatures = 8;
+constexpr int kFrameFeatures = 9;
 
 // The features' names, in order, as the weights file has them.
 const std::array<const char*, kFrameFeatures>& frame_feature_names();
@@ -22,23 +24,34 @@ const std::array<const char*, kFrameFeatures>& frame_feature_names();
 struct FrameHypothesis {
   ToolFrame frame;
   std::string handle_source;   // which candidate handle
+  bool rules_plane = true;     // the plane the rules choose about that handle, not an alternative
   bool side_reversed = false;  // the effector side turned against the one the rules take about that handle
   std::array<double, kFrameFeatures> features{};
-  double log_odds = 0.0;  // the fitted model's score
+  double log_odds = 0.0;        // the fitted model's score
+  std::optional<Vec3> tooltip;  // by the paper's rule (find-tooltip's defaults); none without one
 };
 
-// The fitted model: log-odds = bias + weights . features.
+// The fitted choice model: a hypothesis's score is weights . features, its probability its share of
+// exp(score) among the cloud's hypotheses.
 struct FrameScoreModel {
   std::array<double, kFrameFeatures> weights{};
-  double bias = 0.0;
+  double confident_probability = 1.0;  // the chosen hypothesis is confident from this probability on,
+                                       // calibrated on sessions the weights were not fitted on
   double log_odds(const std::array<double, kFrameFeatures>& features) const;
 };
 
 // The weights shipped (configs/frame-score.json holds the same, with what they were fitted on).
 const FrameScoreModel& fitted_frame_score();
 
-// Every hypothesis, scored by `model`, in a fixed order (candidate handles as listed above, the rules'
-// side before the other). Throws MethodError on degenerate input, as estimate_tool_frame does.
+// The probability of the chosen hypothesis's tooltip: the share of exp(score) of every hypothesis whose
+// tooltip lies within `radius` of it (hypotheses that disagree on the frame may agree on the tip: a
+// scoop's either side, a handle fitted two ways). 0 when the chosen one has no tooltip.
+double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
+                           std::size_t chosen, double radius);
+
+// Every hypothesis, scored by `model`, in a fixed order (candidate handles as listed above; about each the
+// rules' plane, then its alternatives; on each plane the rules' side, then the other). Throws MethodError on degenerate
+// input, as estimate_tool_frame does.
 std::vector<FrameHypothesis> frame_hypotheses(const Points& points, const ToolFrameConfig& config = {},
                                               const Points& viewpoints = {},
                                               const FrameScoreModel& model = fitted_frame_score());

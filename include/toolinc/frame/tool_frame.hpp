@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -113,9 +114,11 @@ struct SymmetryCandidate {
 // One hypothesis of the frame search, for the record.
 struct ScoredHypothesis {
   std::string handle_source;  // which candidate handle
+  bool rules_plane = true;    // the plane the rules choose about that handle, not an alternative
   bool other_side = false;    // the effector on the other side from the one the rules take about that handle
-  double probability = 0.0;   // that its tooltip lies within 10 mm of the truth, as the fitted score says
+  double probability = 0.0;   // that it is the right one among the hypotheses, as the fitted choice model says
   Vec3 effector_axis = Vec3::Zero(), handle_axis = Vec3::Zero();
+  std::optional<Vec3> tooltip;  // its tooltip by the paper's rule, when it has one
 };
 
 // How the frame was found: for the record (the tool_frame JSON's diagnostics), not for use.
@@ -143,6 +146,7 @@ struct ToolFrameDiagnostics {
   int points_input = 0, points_outside_hand = 0, points_used = 0;
   std::vector<ScoredHypothesis> hypotheses;  // the search's, the chosen first, then by probability; empty
                                              // under the rules
+  double tooltip_probability = 0.0;          // the search's: that of the chosen tooltip (frame_search.hpp)
 };
 
 struct ToolFrame {
@@ -153,7 +157,8 @@ struct ToolFrame {
   double handle_radius = 0.0;                          // m, of the handle's fitted cylinder
   HeadKind head_kind = HeadKind::other;
   bool stick = false;                           // nothing stands out from the handle by stick-width: no head
-  bool effector_side_clear = true;              // salience or the head's curl decided the effector's side
+  bool effector_side_clear = true;              // salience or the head's curl decided the effector's side, or
+                                                // the search weighed both sides
   double symmetry_score = 1.0;                  // the chosen plane's score
   std::string symmetry_plane_rule;              // what chose the plane
   std::vector<SymmetryCandidate> tied_planes;   // every basin of the sweep scoring within the tie margin of

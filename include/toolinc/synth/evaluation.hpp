@@ -76,6 +76,7 @@ struct LabelledHypothesis {
   std::array<double, kFrameFeatures> features;
   std::string handle_source;
   bool side_reversed = false;
+  std::optional<Vec3> tooltip;  // hand frame
   double tooltip_m = 0.0;
 };
 std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulatorConfig& session,
