@@ -178,14 +178,15 @@ cv::Mat read_png(const fs::path& session_dir, const fs::path& dir, const std::st
     return {};
   }
   const std::string bytes = read_file(path.string());
-  static const std::string kPngMagic = "\x89PNG\r\n\x1a\n";
-  cv::Mat image;
-  if (bytes.compare(0, kPngMagic.size(), kPngMagic) == 0) image = decode_image(bytes, cv::IMREAD_UNCHANGED);
+  // The size the header declares, before decoding: libpng prints lines of its own on an absurd one.
+  const auto declared = png_size(bytes);
+  if (!declared) throw InputError(where, name + " is not a readable PNG");
+  if (std::int64_t{declared->width} != camera.width || std::int64_t{declared->height} != camera.height)
+    throw InputError(where, fmt::format("{} is {}x{}, the camera is {}x{}", name, declared->width, declared->height,
+                                        camera.width, camera.height));
+  const cv::Mat image = decode_image(bytes, cv::IMREAD_UNCHANGED);
   if (image.empty()) throw InputError(where, name + " is not a readable PNG");
   if (image.depth() != CV_8U) throw InputError(where, name + " must be 8-bit");
-  if (image.cols != camera.width || image.rows != camera.height)
-    throw InputError(where, fmt::format("{} is {}x{}, the camera is {}x{}", name, image.cols, image.rows, camera.width,
-                                        camera.height));
   return is_colour ? colour(image) : single_channel(image, where, name);
 }
 

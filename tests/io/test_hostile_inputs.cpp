@@ -134,6 +134,23 @@ TEST(BoundedReader, DevicesFifosAndOversizedFilesAreRefused) {
   EXPECT_EQ(read_file((dir / "big.txt").string(), 1000).size(), 1000u);
 }
 
+// A left.png whose header declares 2 billion pixels a row: libpng printed two lines of its own before ours.
+TEST(SessionImages, AnAbsurdPngHeaderIsOneLineOfOurs) {
+  const fs::path dir = scratch_dir("huge_ihdr");
+  const SimulatedSession simulated = small_session(23);
+  const fs::path session = dir / "session";
+  write_session(session.string(), simulated.info, simulated.views);
+  const fs::path left = session / simulated.info.views[0].dir / "left.png";
+  std::string png = slurp(left);
+  ASSERT_EQ(png.compare(12, 4, "IHDR"), 0);
+  png.replace(16, 4, std::string("\x77\x35\x94\x00", 4));  // width 2,000,000,000
+  std::ofstream(left, std::ios::binary | std::ios::trunc) << png;
+  const ToolRun run = run_tool("crop-cloud", q(session) + " --image-mask -o " + q(dir / "c.ply"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  expect_failure_left_nothing(run, "left.png is 2000000000x", dir / "c.ply", dir);
+}
+
 // --- sessions leaving their folder through links ---------------------------------------------------
 
 TEST(SessionLinks, AViewFolderOrImageLinkedOutsideTheSessionIsRefused) {
