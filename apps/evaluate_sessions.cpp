@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
       ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--tip-tolerance", tip_tolerance, "m: a tooltip this close to the truth counts as right")
       ->capture_default_str()
-      ->check(toolinc::in_range({toolinc::kMinLength, false, 0.1, "m"}));
+      ->check(toolinc::in_range({toolinc::kMinLength, false, toolinc::kMaxLength, "m"}));
   cli.add_option("--stereo", stereo,
                  "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges and "
                  "trims the blob by the image, crop-cloud --edge-radius 2 --image-mask)")
