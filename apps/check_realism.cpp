@@ -24,6 +24,7 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/app/progress.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -121,7 +122,9 @@ int main(int argc, char** argv) {
                  "Folder of models (X.pcd, canonical), each with the robot's reconstruction (X_rec.ply) or without")
       ->check(CLI::ExistingDirectory);
   cli.add_option("--families", family_names, "Generated tool families, simulated alone (all: the regression set)");
-  cli.add_option("--seeds", seeds, "Simulated sessions per tool")->capture_default_str()->check(CLI::PositiveNumber);
+  cli.add_option("--seeds", seeds, "Simulated sessions per tool")
+      ->capture_default_str()
+      ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--first-seed", first_seed, "Seed of the first session")->capture_default_str();
   cli.add_option("--stereo", stereo, "The simulated sessions' stereo model, as simulate-session --stereo")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))

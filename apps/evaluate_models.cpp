@@ -9,6 +9,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
@@ -83,9 +84,13 @@ int main(int argc, char** argv) {
       ->required();
   cli.add_option("--kinds", kinds_file,
                  "JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters (hok -> hook, ...)");
-  cli.add_option("--grasps", grasps, "Random grasps per model")->capture_default_str()->check(CLI::PositiveNumber);
+  cli.add_option("--grasps", grasps, "Random grasps per model")
+      ->capture_default_str()
+      ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--seed", seed, "Seed of the grasps and noise")->capture_default_str();
-  cli.add_option("--noise", noise, "Gaussian noise sigma per coordinate (m)")->capture_default_str();
+  cli.add_option("--noise", noise, "Gaussian noise sigma per coordinate (m)")
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 0.1, "m"}));
   command.add_output("Per-model and per-kind results JSON (- for stdout)", false);
   toolinc::add_tool_frame_options(cli, frame_config);
   toolinc::add_tooltip_options(cli, tooltip_config, rule);

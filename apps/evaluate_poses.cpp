@@ -11,6 +11,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -76,7 +77,7 @@ int main(int argc, char** argv) {
                  "JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters (hok -> hook, ...)");
   cli.add_option("--grasps", config.grasps, "Random grasps per model")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--seed", config.seed, "Seed of the grasps, views and noise")->capture_default_str();
   cli.add_option("-j,--jobs", config.jobs, "Cases evaluated in parallel (the results do not depend on it)")
       ->capture_default_str()

@@ -13,6 +13,7 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/app/progress.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
@@ -51,10 +52,12 @@ int main(int argc, char** argv) {
                  "With --models: JSON {\"file stem or prefix\": \"kind\"}; default: the stem's leading letters");
   cli.add_option("--first-seed", first_seed, "Seed of the first grasp; grasp g uses first-seed + g")
       ->capture_default_str();
-  cli.add_option("--grasps", grasps, "Sessions per family")->capture_default_str()->check(CLI::PositiveNumber);
+  cli.add_option("--grasps", grasps, "Sessions per family")
+      ->capture_default_str()
+      ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--tip-tolerance", tip_tolerance, "m: a tooltip this close to the truth counts as right")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(toolinc::in_range({toolinc::kMinLength, false, toolinc::kMaxLength, "m"}));
   cli.add_option("--stereo", stereo,
                  "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges and "
                  "trims the blob by the image, crop-cloud --edge-radius 2 --image-mask)")

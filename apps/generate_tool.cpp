@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "toolinc/app/command.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/synth/ground_truth_file.hpp"
@@ -28,8 +29,12 @@ int main(int argc, char** argv) {
                  "Hold the tool with a random grasp from this seed (rotation about the handle +/-90 deg, tilt "
                  "+/-45, roll +/-15, offsets +/-5 cm), remove the hand's points and add noise; without it the "
                  "tool stays in the canonical pose, noise-free");
-  cli.add_option("--hand-radius", hand_radius, "Radius of the hand's sphere (m)")->capture_default_str();
-  cli.add_option("--noise", noise, "Gaussian noise sigma per coordinate (m)")->capture_default_str();
+  cli.add_option("--hand-radius", hand_radius, "Radius of the hand's sphere (m)")
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, toolinc::kMaxLength, "m"}));
+  cli.add_option("--noise", noise, "Gaussian noise sigma per coordinate (m)")
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 0.1, "m"}));
   cli.add_option("--truth", truth_file, "Write the ground truth JSON here (needs --grasp-seed)");
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");
   command.add_output("Output PLY");

@@ -10,6 +10,8 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/range.hpp"
+#include "toolinc/record/parameters.hpp"
 #include "toolinc/record/recorder.hpp"
 #include "toolinc/record/sim_backend.hpp"
 #include "toolinc/record/static_motion.hpp"
@@ -104,7 +106,8 @@ int main(int argc, char** argv) {
   cli.add_option("--sfm-rpc", yarp.sfm_rpc, "Stereo module's RPC (Rect)")->capture_default_str();
   cli.add_option("--local-prefix", yarp.local_prefix, "Prefix of the local port names")->capture_default_str();
   cli.add_option("--connect-timeout", yarp.connect_timeout, "s to find the name server, a port or a controller")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, true, toolinc::kMaxWait, "s"}));
   cli.add_option(
          "--static-poses", static_poses,
          "JSON with root_from_hand, root_from_camera and camera: no controllers, nothing moves (checks the ports)")
@@ -116,7 +119,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--sim-real-time", sim_real_time, "sim: fraction of the simulated waits really waited")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 1, ""}));
   cli.add_option("--sim-silent", sim_silent,
                  "sim: a stream that never answers (left, disparity, blob_mask, blob_box, points)");
 

@@ -11,6 +11,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/render/contact_sheet.hpp"
@@ -34,12 +35,16 @@ int main(int argc, char** argv) {
   model->needs(pose);
   auto* session = cli.add_option("--session", session_dir, "A recorded session: draw a contact sheet of its views");
   for (auto* option : {clouds, frame, tooltip, pose, model}) session->excludes(option);
-  cli.add_option("--width", options.width, "Image width, pixels")->capture_default_str();
-  cli.add_option("--height", options.height, "Image height, pixels")->capture_default_str();
+  // Beyond 10000 px a side an image takes gigabytes.
+  const CLI::Validator kImageSide = toolinc::in_range({1, false, 10000, "px"});
+  cli.add_option("--width", options.width, "Image width, pixels")->capture_default_str()->check(kImageSide);
+  cli.add_option("--height", options.height, "Image height, pixels")->capture_default_str()->check(kImageSide);
   cli.add_option("--axis-length", options.axis_length, "Drawn length of the tool frame's axes, m")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({toolinc::kMinLength, false, toolinc::kMaxLength, "m"}));
   cli.add_option("--panel-width", sheet.panel_width, "With --session: width of each image on the sheet, pixels")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kImageSide);
   command.add_output("Output PNG");
   return command.run(argc, argv, [&] {
     cv::Mat image;

@@ -11,6 +11,7 @@
 
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/synth/evaluation.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/session_simulator.hpp"
@@ -73,11 +74,14 @@ int main(int argc, char** argv) {
                  "The tool's colour R,G,B (0-255); default: drawn by the seed from a palette all families share");
   cli.add_option("--scene-variation", config.scene_variation,
                  "Share by which the light and the wall's and table's tint vary with the seed (0: never)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 1, ""}));
   cli.add_option("--kinematic-error-mm", kinematic_mm, "Sigma of the recorded hand position per axis (mm)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 100, "mm"}));
   cli.add_option("--kinematic-error-deg", config.kinematic_error_deg, "Sigma of the recorded hand rotation (deg)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 90, "deg"}));
   cli.add_option("--gross-error", gross_errors,
                  "VIEW:TRANS_M:ROT_DEG: that view's recorded hand pose is also off by this translation and "
                  "rotation (random direction and axis); repeatable");
@@ -89,9 +93,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--disparity-noise", config.disparity_noise_px, "ideal: sigma of the disparity (px)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 100, "px"}));
   cli.add_option("--pixel-noise", config.pixel_noise, "Sigma of the sensor noise per colour channel (grey levels)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 255, ""}));
   cli.add_flag("--renderer-blob", config.renderer_blob,
                "sgbm, elas: blob.png is the renderer's hand-and-tool mask, not the disparity's closest blob");
   cli.add_flag("--no-points", no_points, "Do not write points.pcd");
@@ -103,6 +109,7 @@ int main(int argc, char** argv) {
       config.shape = toolinc::default_shape(toolinc::family_from_string(family));
     } else {
       config.model = toolinc::load_cloud(model_file);
+      toolinc::tool_model_of(config.model, {}, model_file);  // a model align-pose would refuse is refused
       config.model_name = std::filesystem::path(model_file).filename().string();
       config.model_symmetry = symmetry == "measured" ? toolinc::measure_symmetry(config.model.points)
                                                      : toolinc::symmetry_from_string(symmetry);

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -242,6 +243,10 @@ int Command::run(int argc, char** argv, const std::function<void()>& body) {
                     : verbosity_ >= 2 ? spdlog::level::trace
                     : verbosity_ == 1 ? spdlog::level::debug
                                       : spdlog::level::info);
+  // OpenCV's logger prints lines of its own (the ONNX importer's errors, which it also throws and we report
+  // in one line naming the file): heard only with -v.
+  cv::utils::logging::setLogLevel(verbosity_ >= 1 && !quiet_ ? cv::utils::logging::LOG_LEVEL_WARNING
+                                                             : cv::utils::logging::LOG_LEVEL_SILENT);
   try {
     check_not_among(output_, named_files());
     body();

@@ -2,10 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include <cmath>
-#include <limits>
-#include <type_traits>
-
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/frame/parameters.hpp"
 #include "toolinc/io/cloud_io.hpp"
@@ -24,16 +21,10 @@ void add_parameter_options(CLI::App& cli, Config& config, const std::vector<Para
   for (const auto& p : table) {
     const std::string help = *p.unit ? std::string(p.meaning) + " (" + p.unit + ")" : std::string(p.meaning);
     visit_value(p, config, [&](auto& value) {
-      using Value = std::remove_reference_t<decltype(value)>;
-      CLI::Option* option = cli.add_option(std::string("--") + p.name, value, help);
-      option->capture_default_str()->group(group);
-      if (p.min_exclusive && p.min == 0 && std::isinf(p.max))
-        option->check(CLI::PositiveNumber);
-      else if (p.min == 0 && std::isinf(p.max))
-        option->check(CLI::NonNegativeNumber);
-      else
-        option->check(CLI::Range(static_cast<Value>(p.min),
-                                 std::isinf(p.max) ? std::numeric_limits<Value>::max() : static_cast<Value>(p.max)));
+      cli.add_option(std::string("--") + p.name, value, help)
+          ->capture_default_str()
+          ->group(group)
+          ->check(in_range(range_of(p)));
     });
   }
 }
@@ -87,6 +78,12 @@ PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const A
                         const std::string& model_file, const std::string& view_file) {
   if (const std::string mismatch = unit_mismatch(model.points, view.points, config.max_extent_ratio); !mismatch.empty())
     throw InputError(mismatch.rfind("the model", 0) == 0 ? model_file : view_file, mismatch);
+  return tool_model_of(model, config, model_file);
+}
+
+PoseModel tool_model_of(const PointCloud& model, const AlignPoseConfig& config, const std::string& model_file) {
+  if (const std::string problem = implausible_extent(model.points, "the model"); !problem.empty())
+    throw InputError(model_file, problem);
   try {
     return PoseModel(model.points, config);
   } catch (const MethodError& e) {

@@ -3,12 +3,16 @@
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <stdexcept>
 
+#include "toolinc/appearance/onnx_check.hpp"
 #include "toolinc/appearance/sha256.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/io/read_file.hpp"
 
 namespace toolinc {
 namespace {
@@ -20,14 +24,28 @@ std::array<double, 3> triple(const Json& json, const std::string& key, const std
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
 }
 
+// OpenCV's messages run over several lines (a "> " line per nested call); a log line is one.
+std::string one_line(const std::string& text) {
+  std::string joined;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t start = line.find_first_not_of("> \t"), end = line.find_last_not_of(" \t\r");
+    if (start == std::string::npos) continue;
+    joined += (joined.empty() ? "" : "; ") + line.substr(start, end + 1 - start);
+  }
+  return joined;
+}
+
 }  // namespace
 
 void check(const DnnFeatureConfig& c) {
   if (c.input_width <= 0 || c.input_height <= 0)
     throw std::invalid_argument(
         fmt::format("--input-size: must be positive, not {} {}", c.input_width, c.input_height));
+  for (const double m : c.mean)
+    if (!std::isfinite(m)) throw std::invalid_argument("--mean: every value must be a finite number");
   for (const double s : c.std)
-    if (!(s > 0)) throw std::invalid_argument("--std: every value must be positive");
+    if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("--std: every value must be positive and finite");
   if (c.channel_order != "rgb" && c.channel_order != "bgr")
     throw std::invalid_argument("--channel-order: must be rgb or bgr, not \"" + c.channel_order + "\"");
 }
@@ -37,15 +55,17 @@ DnnFeatureExtractor::DnnFeatureExtractor(DnnFeatureConfig config, const std::str
   check(config_);
   const std::string& model = config_.model;
   if (!std::filesystem::is_regular_file(model)) throw InputError(model, "no such model file");
-  sha256_ = sha256_file(model);
+  const std::string bytes = read_file(model);
+  sha256_ = sha256_hex(bytes);
   if (!expected_sha256.empty() && sha256_ != expected_sha256)
     throw InputError(
         model, fmt::format("SHA-256 {} differs from the classifier's {}: not the model it was trained with", sha256_,
                            expected_sha256));
+  check_onnx(bytes, model);
   try {
-    net_ = cv::dnn::readNetFromONNX(model);
+    net_ = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
   } catch (const cv::Exception& e) {
-    throw InputError(model, "not an ONNX network OpenCV can load: " + e.err);
+    throw InputError(model, "not an ONNX network OpenCV can load: " + one_line(e.err));
   }
   if (net_.empty()) throw InputError(model, "not an ONNX network OpenCV can load");
   if (!config_.output_layer.empty()) {
@@ -60,8 +80,8 @@ DnnFeatureExtractor::DnnFeatureExtractor(DnnFeatureConfig config, const std::str
   try {  // one grey crop: the feature size, and any shape mismatch, show now rather than per crop
     dimension_ = extract(cv::Mat(config_.input_height, config_.input_width, CV_8UC3, cv::Scalar::all(128))).size();
   } catch (const cv::Exception& e) {
-    throw InputError(model,
-                     fmt::format("cannot run on a {}x{} input: {}", config_.input_width, config_.input_height, e.err));
+    throw InputError(model, fmt::format("cannot run on a {}x{} input: {}", config_.input_width, config_.input_height,
+                                        one_line(e.err)));
   }
   spdlog::debug("{}: {} features from {}", model, dimension_,
                 config_.output_layer.empty() ? std::string("the output") : config_.output_layer);
@@ -87,6 +107,11 @@ Eigen::VectorXd DnnFeatureExtractor::extract(const cv::Mat& bgr) {
   cv::Mat flat = output.reshape(1, 1);
   Eigen::VectorXd features(static_cast<Eigen::Index>(flat.total()));
   for (Eigen::Index i = 0; i < features.size(); ++i) features[i] = flat.at<float>(0, static_cast<int>(i));
+  // NaN weights, or an overflow, would make features every score then ignores: a classifier of nulls.
+  if (!features.allFinite())
+    throw InputError(config_.model, fmt::format("the network's output on a {}x{} input is not finite (NaN or "
+                                                "infinite weights?)",
+                                                config_.input_width, config_.input_height));
   const double norm = features.norm();
   return norm > 0 ? Eigen::VectorXd(features / norm) : features;
 }

@@ -308,7 +308,25 @@ Feasibility check_feasibility(const Eigen::Matrix4d& hand_from_model, const Alig
   return f;
 }
 
+std::string implausible_extent(const Points& points, const std::string& what) {
+  constexpr double kMinExtent = 0.01, kMaxExtent = 2.0;  // m: a speck; beyond the arm's reach twice over
+  const double extent = bbox_diagonal(points);
+  if (extent < kMinExtent)
+    return fmt::format(
+        "{} spans {:.3g} m across its {} points, less than any tool ({} m): too few, or all at one "
+        "place",
+        what, extent, points.size(), kMinExtent);
+  if (extent > kMaxExtent)
+    return fmt::format(
+        "{} spans {:.4g} m, more than any tool the hand holds ({} m): is it in millimetres? It must "
+        "be in metres",
+        what, extent, kMaxExtent);
+  return {};
+}
+
 std::string unit_mismatch(const Points& model, const Points& view, double max_extent_ratio) {
+  if (std::string problem = implausible_extent(view, "the view"); !problem.empty()) return problem;
+  if (std::string problem = implausible_extent(model, "the model"); !problem.empty()) return problem;
   const double model_extent = bbox_diagonal(model), view_extent = bbox_diagonal(view);
   if (model_extent > max_extent_ratio * view_extent)
     return fmt::format(

@@ -91,9 +91,21 @@ BlobInfo blob_from_json(const Json& json, const std::string& file) {
 }
 
 // A session's files lie inside its folder: a view listed as an absolute path or climbing out with ".."
-// would make a tool read (and a batch job trust) someone else's data.
-void check_inside_session(const std::string& dir, const std::string& session_file) {
+// would make a tool read (and a batch job trust) someone else's data. A path longer than the file system
+// takes (PATH_MAX, NAME_MAX) or holding a NUL is refused here, naming the entry, before any system call
+// fails on it.
+void check_view_folder(const std::string& dir, std::size_t index, const std::string& session_file) {
+  constexpr std::size_t kMaxPath = 4096, kMaxName = 255;
+  const std::string entry = fmt::format("\"views\"[{}]", index);
+  if (dir.size() > kMaxPath)
+    throw InputError(session_file, fmt::format("{} is {} characters long, beyond the {} a path may have", entry,
+                                               dir.size(), kMaxPath));
+  if (dir.find('\0') != std::string::npos) throw InputError(session_file, entry + " holds a NUL character");
   const fs::path path(dir);
+  for (const auto& part : path)
+    if (part.native().size() > kMaxName)
+      throw InputError(session_file, fmt::format("{} has a name of {} characters, beyond the {} a file name may have",
+                                                 entry, part.native().size(), kMaxName));
   bool escapes = dir.empty() || path.has_root_name() || path.has_root_directory();
   for (const auto& part : path) escapes = escapes || part == "..";
   if (escapes)
@@ -111,7 +123,6 @@ fs::path resolved_inside(const fs::path& path, const fs::path& session_dir) {
 }
 
 ViewRecord read_view_json(const fs::path& session_dir, const std::string& dir, const std::string& session_file) {
-  check_inside_session(dir, session_file);
   const fs::path view_dir = session_dir / dir;
   if (!fs::is_directory(view_dir)) throw InputError(session_file, fmt::format("view folder {} is missing", dir));
   resolved_inside(view_dir, session_dir);
@@ -167,14 +178,15 @@ cv::Mat read_png(const fs::path& session_dir, const fs::path& dir, const std::st
     return {};
   }
   const std::string bytes = read_file(path.string());
-  static const std::string kPngMagic = "\x89PNG\r\n\x1a\n";
-  cv::Mat image;
-  if (bytes.compare(0, kPngMagic.size(), kPngMagic) == 0) image = decode_image(bytes, cv::IMREAD_UNCHANGED);
+  // The size the header declares, before decoding: libpng prints lines of its own on an absurd one.
+  const auto declared = png_size(bytes);
+  if (!declared) throw InputError(where, name + " is not a readable PNG");
+  if (std::int64_t{declared->width} != camera.width || std::int64_t{declared->height} != camera.height)
+    throw InputError(where, fmt::format("{} is {}x{}, the camera is {}x{}", name, declared->width, declared->height,
+                                        camera.width, camera.height));
+  const cv::Mat image = decode_image(bytes, cv::IMREAD_UNCHANGED);
   if (image.empty()) throw InputError(where, name + " is not a readable PNG");
   if (image.depth() != CV_8U) throw InputError(where, name + " must be 8-bit");
-  if (image.cols != camera.width || image.rows != camera.height)
-    throw InputError(where, fmt::format("{} is {}x{}, the camera is {}x{}", name, image.cols, image.rows, camera.width,
-                                        camera.height));
   return is_colour ? colour(image) : single_channel(image, where, name);
 }
 
@@ -273,6 +285,7 @@ SessionInfo read_session(const std::string& session_dir) {
   std::set<std::string> seen;  // folders, links resolved: "views/000", "views/000/" and "./views/000" are one
   for (const Json& dir : views) {
     if (!dir.is_string()) throw InputError(file, "\"views\" must be a list of folders");
+    check_view_folder(dir.get<std::string>(), session.views.size(), file);
     if (!seen.insert(resolved_path((fs::path(session_dir) / dir.get<std::string>()).string())).second)
       throw InputError(file, fmt::format("view folder \"{}\" is listed twice", dir.get<std::string>()));
     session.views.push_back(read_view_json(session_dir, dir.get<std::string>(), file));

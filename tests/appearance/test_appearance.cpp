@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
@@ -40,9 +41,11 @@ namespace toolinc {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::expect_failure_left_nothing;
 using testing::run_tool;
 using testing::scratch_dir;
 using testing::slurp;
+using testing::ToolRun;
 using testing::write_text;
 
 // Six tool families; how they are painted is the test's choice (Paint).
@@ -1029,6 +1032,84 @@ TEST(AppearanceCli, DnnBackboneTrainedAndChecked) {
   EXPECT_NE(run.err.find(other), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("SHA-256"), std::string::npos) << run.err;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// --- hostile networks -------------------------------------------------------------------------------------
+
+// learn-appearance train on the network's bytes: exit 2 (not a signal), exactly one line on stderr, naming
+// the network and `problem`, and no classifier written.
+void expect_network_refused(const std::string& name, const std::string& bytes, const std::string& problem) {
+  const auto dir = scratch_dir("hostile-network-" + name);
+  const auto net = dir / "net.onnx", out = dir / "classifier.json";
+  write_text(net, bytes);
+  const ToolRun run =
+      run_tool("learn-appearance", "train --session " + session(ToolFamily::hoe, 0).string() + " --backbone " +
+                                       net.string() + " --input-size 32 32 -o " + out.string());
+  SCOPED_TRACE(name + ": " + run.err);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1);
+  expect_failure_left_nothing(run, net.string() + ": ", out, dir);
+  EXPECT_NE(run.err.find(problem), std::string::npos);
+}
+
+std::string faulty(const std::function<void(NetworkFaults&)>& fault) {
+  NetworkFaults faults;
+  fault(faults);
+  return random_conv_onnx({}, faults);
+}
+
+TEST(AppearanceHostileNetwork, DimsDeclaringMoreOrFewerElementsThanTheDataAreRefused) {
+  expect_network_refused("more", faulty([](auto& n) {
+                           n.weight_dims = {8, 3, 3, 4};
+                         }),
+                         "\"conv.weight\": its dims declare 288 FLOAT elements (1152 bytes of raw_data), it holds 864");
+  expect_network_refused("fewer", faulty([](auto& n) {
+                           n.weight_dims = {8, 3, 3, 2};
+                         }),
+                         "its dims declare 144 FLOAT elements");
+}
+
+TEST(AppearanceHostileNetwork, DimsOverflowingIntegersAreRefused) {
+  expect_network_refused("int32", faulty([](auto& n) {
+                           n.weight_dims = {1 << 16, 1 << 16, 3, 3};
+                         }),
+                         "dims declare more than");
+  const std::int64_t huge = std::int64_t{1} << 40;
+  expect_network_refused("int64", faulty([&](auto& n) {
+                           n.weight_dims = {huge, huge, 1, 1};
+                         }),
+                         "dims declare more than");
+}
+
+TEST(AppearanceHostileNetwork, ExternalDataIsRefused) {
+  expect_network_refused("external", faulty([](auto& n) { n.external_weights = true; }),
+                         "keeps its data in an external file");
+}
+
+TEST(AppearanceHostileNetwork, ATruncatedFileIsRefused) {
+  const std::string whole = random_conv_onnx({});
+  expect_network_refused("truncated", whole.substr(0, whole.size() - 100), "where");
+}
+
+TEST(AppearanceHostileNetwork, NanWeightsAreRefusedAtTraining) {
+  expect_network_refused("nan", faulty([](auto& n) { n.nan_weights = true; }), "not finite");
+}
+
+TEST(AppearanceHostileNetwork, AnUnknownOperatorIsOneLine) {
+  expect_network_refused("operator", faulty([](auto& n) { n.activation = "NoSuchOp"; }), "NoSuchOp");
+}
+
+TEST(AppearanceHostileNetwork, NonFiniteNormalisationIsRefusedByOptionName) {
+  const auto dir = scratch_dir("hostile-normalisation");
+  const auto net = write_network(dir / "net.onnx", {}), out = dir / "classifier.json";
+  for (const std::string option : {"--mean inf 0 0", "--mean 0 nan 0", "--std 1 1 inf", "--std 1e400 1 1"}) {
+    const ToolRun run =
+        run_tool("learn-appearance", "train --session " + session(ToolFamily::hoe, 0).string() + " --backbone " +
+                                         net.string() + " --input-size 32 32 " + option + " -o " + out.string());
+    SCOPED_TRACE(option + ": " + run.err);
+    EXPECT_EQ(run.exit_code, 2);
+    expect_failure_left_nothing(run, option.substr(0, option.find(' ')), out, dir);
+  }
 }
 
 TEST(AppearanceCli, TrainFromAnImageList) {

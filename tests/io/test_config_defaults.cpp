@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <spdlog/fmt/fmt.h>
 
+#include <cmath>
 #include <filesystem>
 #include <iterator>
 #include <string>
@@ -12,6 +13,7 @@
 #include "support/onnx_writer.hpp"
 #include "support/paths.hpp"
 #include "support/run_tool.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/appearance/feature_db.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/frame/parameters.hpp"
@@ -159,7 +161,7 @@ namespace {
 
 // The parameter tables are the one source of every algorithm's parameters: the shipped
 // config's sections hold exactly their parameters, in their order, at their defaults, and the docs'
-// parameter table has a row for each, its default first.
+// parameter table has a row for each, its default and its range first.
 // skipped: keys before the table's (not numbers: a rule, a box, names); trailing: keys after it.
 template <class Config>
 void expect_section_is_the_table(const Json& section, const std::vector<Parameter<Config>>& table, std::size_t skipped,
@@ -178,9 +180,28 @@ template <class Config>
 void expect_documented(const std::string& docs, const std::vector<Parameter<Config>>& table) {
   for (const auto& p : table) {
     const std::string value = fmt::format("{:g}", value_of(p, Config{}));
-    const std::string row = fmt::format("| `{}` | {}{} |", p.name, value, *p.unit ? " " + std::string(p.unit) : "");
-    EXPECT_NE(docs.find(row), std::string::npos) << "docs/method.md has no row starting " << row;
+    const std::string row = fmt::format("| `{}` | {}{} | {} |", p.name, value, *p.unit ? " " + std::string(p.unit) : "",
+                                        to_string(range_of(p)));
+    EXPECT_NE(docs.find(row), std::string::npos) << "the docs have no row starting " << row;
   }
+}
+
+// Every parameter is bounded on both sides, and its default (the shipped config's value) lies in its range.
+TEST(ConfigDefaults, EveryParameterHasAFiniteRangeHoldingItsDefault) {
+  const auto check = [](const auto& table, auto config) {
+    for (const auto& p : table) {
+      EXPECT_TRUE(std::isfinite(p.min) && std::isfinite(p.max) && p.min < p.max) << p.name;
+      const double value = value_of(p, config);
+      EXPECT_TRUE(p.min_exclusive ? value > p.min : value >= p.min) << p.name << " " << value;
+      EXPECT_LE(value, p.max) << p.name;
+    }
+  };
+  check(tool_frame_parameters(), ToolFrameConfig{});
+  check(tooltip_parameters(), TooltipConfig{});
+  check(align_pose_parameters(), AlignPoseConfig{});
+  check(merge_parameters(), MergeConfig{});
+  check(crop_parameters(), CropConfig{});
+  check(record_parameters(), RecordConfig{});
 }
 
 TEST(ConfigDefaults, FrameAndTooltipParametersFollowTheirTables) {

@@ -1,12 +1,14 @@
 // An outside tester's findings on hostile inputs, one test per finding, each with fixtures made here:
 // outputs that name an input, devices and FIFOs, sessions linked outside their folder, absurd
-// coordinates, non-finite options, ill-typed JSON, duplicated views, temporary files of killed writers, and
-// messages that must name the file. Malformed and lying files of every reader: test_malformed_files.cpp.
+// coordinates, non-finite options, ill-typed JSON, duplicated views, temporary files of killed writers,
+// messages that must name the file, and options, session paths and models beyond their physical range. Malformed and
+// lying files of every reader: test_malformed_files.cpp.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -130,6 +132,23 @@ TEST(BoundedReader, DevicesFifosAndOversizedFilesAreRefused) {
   const std::string big = input_error_of([&] { read_file((dir / "big.txt").string(), 999); });
   EXPECT_NE(big.find("big.txt: cannot read: 1000 bytes, more than the 999 allowed"), std::string::npos) << big;
   EXPECT_EQ(read_file((dir / "big.txt").string(), 1000).size(), 1000u);
+}
+
+// A left.png whose header declares 2 billion pixels a row: libpng printed two lines of its own before ours.
+TEST(SessionImages, AnAbsurdPngHeaderIsOneLineOfOurs) {
+  const fs::path dir = scratch_dir("huge_ihdr");
+  const SimulatedSession simulated = small_session(23);
+  const fs::path session = dir / "session";
+  write_session(session.string(), simulated.info, simulated.views);
+  const fs::path left = session / simulated.info.views[0].dir / "left.png";
+  std::string png = slurp(left);
+  ASSERT_EQ(png.compare(12, 4, "IHDR"), 0);
+  png.replace(16, 4, std::string("\x77\x35\x94\x00", 4));  // width 2,000,000,000
+  std::ofstream(left, std::ios::binary | std::ios::trunc) << png;
+  const ToolRun run = run_tool("crop-cloud", q(session) + " --image-mask -o " + q(dir / "c.ply"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  expect_failure_left_nothing(run, "left.png is 2000000000x", dir / "c.ply", dir);
 }
 
 // --- sessions leaving their folder through links ---------------------------------------------------
@@ -329,6 +348,131 @@ TEST(Messages, UsageErrorsFromAConfigAndMethodFailuresAreOneLineNamingTheFile) {
   const ToolRun method = run_tool("estimate-frame", q(dir / "few.ply") + " -o -");
   EXPECT_EQ(method.exit_code, 3) << method.err;
   EXPECT_NE(method.err.find(": error: " + (dir / "few.ply").string() + ": "), std::string::npos) << method.err;
+}
+
+}  // namespace
+
+// --- physical ranges -------------------------------------------------------------------------------
+
+namespace {
+
+// A length finer than the resolution or longer than the workspace is refused by its option's name, with the
+// config file's name when the value came from one, before anything runs.
+TEST(PhysicalRanges, ALengthOutOfRangeIsRefusedOnTheCommandLineAndInAConfig) {
+  const fs::path dir = scratch_dir("physical_ranges");
+  const std::string out = " -o " + q(dir / "f.json");
+  for (const auto& [value, bound] :
+       {std::pair{"1e-300", "below 0.0001 m"}, std::pair{"1e308", "above 2 m"}, std::pair{"-0", "below 0.0001 m"}}) {
+    const ToolRun line = run_tool("estimate-frame", q(kHoe) + " --voxel-size=" + std::string(value) + out);
+    expect_refused(line, "--voxel-size: " + std::string(value) + " is " + bound, {}, "");
+    EXPECT_EQ(line.err.find("config"), std::string::npos) << line.err;
+    // The config's numbers reach the option as JSON prints them (1e308 as 1e+308).
+    std::ofstream(dir / "config.json") << "{\"voxel-size\": " << value << "}";
+    const ToolRun config = run_tool("estimate-frame", q(kHoe) + " -c " + q(dir / "config.json") + out);
+    expect_refused(config, (dir / "config.json").string() + ": --voxel-size: ", {}, "");
+    EXPECT_NE(config.err.find(bound), std::string::npos) << config.err;
+  }
+  // A count beyond memory, as a huge integer, from a config's section.
+  std::ofstream(dir / "config.json") << "{\"estimate-frame\": {\"symmetry-samples\": 99999999999999999999}}";
+  expect_refused(run_tool("estimate-frame", q(kHoe) + " -c " + q(dir / "config.json") + out), "--symmetry-samples", {},
+                 "");
+  EXPECT_FALSE(fs::exists(dir / "f.json"));
+}
+
+// A section length of 1e-300 m once made 1e298 sections (a crash), 1e-6 m a failed allocation and 1e-5 m a
+// run of minutes: each is now a usage error at once.
+TEST(PhysicalRanges, AVanishingHandleSectionIsExit2NotASignal) {
+  const fs::path dir = scratch_dir("section_length");
+  for (const std::string value : {"1e-300", "1e-10", "1e-6", "1e-5"}) {
+    const auto start = std::chrono::steady_clock::now();
+    const ToolRun run =
+        run_tool("estimate-frame", q(kHoe) + " --handle-section-length " + value + " -o " + q(dir / "f.json"));
+    expect_refused(run, "--handle-section-length: " + value + " is below 0.0001 m", {}, "");
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10)) << value;
+  }
+}
+
+// A view entry longer than a path may be, with a name longer than a file name may be, or holding a NUL
+// was handed to the file system, whose "File name too long" named neither the session nor the entry.
+TEST(SessionPaths, AnOverlongOrNulViewEntryIsRefusedNamingTheSessionAndTheEntry) {
+  const fs::path root = scratch_dir("session_long_paths");
+  const SimulatedSession simulated = small_session(13);
+  write_session((root / "s").string(), simulated.info, simulated.views);
+  const fs::path file = root / "s/session.json";
+  const Json original = read_json(file.string());
+  for (const auto& [entry, reason] :
+       {std::pair{std::string(200000, 'a'), std::string("is 200000 characters long")},
+        std::pair{"views/" + std::string(300, 'b'), std::string("has a name of 300 characters")},
+        std::pair{std::string("views/0\0"
+                              "00",
+                              10),
+                  std::string("holds a NUL character")}}) {
+    Json json = original;
+    json["views"][1] = entry;
+    write_json(file.string(), json);
+    const std::string message = input_error_of([&] { read_session((root / "s").string()); });
+    EXPECT_NE(message.find(file.string() + ": \"views\"[1] " + reason), std::string::npos) << message.substr(0, 300);
+  }
+  Json json = original;
+  json["views"][0] = std::string(200000, 'a');
+  write_json(file.string(), json);
+  const std::string why = "\"views\"[0] is 200000 characters long";
+  const ToolRun crop = run_tool("crop-cloud", q(root / "s") + " -o " + q(root / "c.ply"));
+  expect_refused(crop, file.string() + ": " + why, {}, "");
+  EXPECT_LT(crop.err.size(), 1000u);
+  expect_refused(run_tool("render", "--session " + q(root / "s") + " -o " + q(root / "r.png")), why, {}, "");
+  EXPECT_FALSE(fs::exists(root / "c.ply"));
+  EXPECT_FALSE(fs::exists(root / "r.png"));
+}
+
+// A settling pause of 1e308 s hung record in 0.05 s steps after it had made the session folder.
+TEST(RecordRanges, ATimeBeyondMinutesIsRefusedBeforeTheSessionFolder) {
+  const fs::path dir = scratch_dir("record_ranges");
+  std::ofstream(dir / "config.json") << "{\"record\": {\"settle-time\": 1e308}}";
+  expect_refused(run_tool("record", "--backend sim -q -c " + q(dir / "config.json") + " -o " + q(dir / "session")),
+                 (dir / "config.json").string() + ": --settle-time: 1e+308 is above 60 s", {}, "");
+  for (const std::string option : {"--settle-time=61", "--arm-timeout=1e9", "--sim-real-time=2", "--attempts=1e6"}) {
+    expect_refused(run_tool("record", "--backend sim -q " + option + " -o " + q(dir / "session")),
+                   option.substr(0, option.find('=')), {}, "");
+  }
+  for (const auto& entry : fs::directory_iterator(dir)) EXPECT_EQ(entry.path().filename(), "config.json");
+}
+
+// A model no tool can be (a point, copies of one, a speck, millimetres) made a session whose true tooltip lay
+// 95 m from the hand; it is refused as align-pose refuses it.
+TEST(SimulateSessionModel, DegenerateAndMillimetreModelsAreRefusedWritingNothing) {
+  const fs::path dir = scratch_dir("simulate_models");
+  Points speck, millimetres;
+  for (const Vec3& p : read_cloud(kHoe.string()).points) {
+    speck.push_back(p * 1e-8);
+    millimetres.push_back(p * 1000.0);
+  }
+  const std::vector<std::pair<std::string, Points>> models{{"one.ply", Points{Vec3(0.2, 0, 0)}},
+                                                           {"same.ply", Points(10000, Vec3(0.2, 0.01, 0))},
+                                                           {"speck.ply", speck},
+                                                           {"mm.ply", millimetres}};
+  for (const auto& [name, points] : models) {
+    PointCloud cloud;
+    cloud.points = points;
+    write_ply((dir / name).string(), cloud);
+    const ToolRun run = run_tool("simulate-session", "-q --model " + q(dir / name) + " -o " + q(dir / "session"));
+    expect_refused(run, (dir / name).string() + ": the model", {}, "");
+    EXPECT_FALSE(fs::exists(dir / "session")) << name;
+    if (name == "mm.ply") EXPECT_NE(run.err.find("millimetres"), std::string::npos) << run.err;
+  }
+}
+
+// A one-point view made align-pose call the healthy model "inf times larger than the view".
+TEST(AlignPoseView, AOnePointViewIsBlamedNotTheModel) {
+  const fs::path dir = scratch_dir("one_point_view");
+  PointCloud one;
+  one.points = {Vec3(0.2, 0, 0)};
+  write_ply((dir / "one.ply").string(), one);
+  const ToolRun run =
+      run_tool("align-pose", "--model " + q(kHoe) + " --view " + q(dir / "one.ply") + " -o " + q(dir / "pose.json"));
+  expect_refused(run, (dir / "one.ply").string() + ": the view spans 0 m", {}, "");
+  EXPECT_EQ(run.err.find("the model"), std::string::npos) << run.err;
+  EXPECT_FALSE(fs::exists(dir / "pose.json"));
 }
 
 }  // namespace

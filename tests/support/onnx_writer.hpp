@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace toolinc {
 
@@ -17,6 +18,20 @@ struct RandomConvNet {
   std::uint32_t seed = 1;
 };
 
-std::string random_conv_onnx(const RandomConvNet& net);
+// Faults, for the tests of hostile networks: the dims conv.weight declares (empty: its own), its data in
+// an external file instead of raw_data, NaN weights, and the activation's operator.
+struct NetworkFaults {
+  std::vector<std::int64_t> weight_dims;
+  bool external_weights = false;
+  bool nan_weights = false;
+  std::string activation = "Relu";
+};
+
+std::string random_conv_onnx(const RandomConvNet& net, const NetworkFaults& faults = {});
+
+// Protobuf wire format: a key (field number << 3 | wire type) then a varint or length-delimited bytes.
+void append_varint(std::string& out, std::uint64_t value);
+void append_int_field(std::string& out, int field, std::int64_t value);
+void append_bytes_field(std::string& out, int field, const std::string& bytes);
 
 }  // namespace toolinc

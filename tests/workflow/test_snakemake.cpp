@@ -11,8 +11,7 @@
 #include <sstream>
 
 #include "support/files.hpp"
-#include "support/paths.hpp"
-#include "support/run_tool.hpp"
+#include "support/workflow.hpp"
 #include "toolinc/app/progress.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -25,22 +24,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kSnakefile = std::string(toolinc::testing::kSourceDir) + "/scripts/Snakefile";
-
-// Runs a shell command, its output to `log`; returns the exit status.
-int shell(const std::string& command, const fs::path& log) {
-  const int status = std::system((command + " >" + log.string() + " 2>&1 </dev/null").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::vector<std::string> split(const std::string& line, char separator) {
-  std::vector<std::string> out(1);
-  for (char c : line)
-    if (c == separator)
-      out.emplace_back();
-    else
-      out.back() += c;
-  return out;
-}
 
 }  // namespace
 
@@ -59,36 +42,16 @@ TEST(Snakemake, ThreeSessionsAndTheSummary) {
                              " out=" + (dir / "out").string() + " bin=" + toolinc::testing::kBinDir;
   ASSERT_EQ(shell("snakemake -s " + kSnakefile + " --cores 2" + config, dir / "run.log"), 0) << slurp(dir / "run.log");
 
-  std::istringstream csv(slurp(dir / "out/summary.csv"));
-  std::string line;
-  ASSERT_TRUE(std::getline(csv, line));
-  const auto header = split(line, ',');
-  ASSERT_EQ(header.size(), 10u) << line;
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(csv, line)) {
-    const auto cells = split(line, ',');
-    ASSERT_EQ(cells.size(), header.size()) << line;
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  ASSERT_EQ(rows.size(), 3u);
-  for (const auto& row : rows) {
-    const std::string name = row.at("session");
+  std::vector<std::string> header;
+  const auto rows = read_summary(dir / "out/summary.csv", &header);
+  ASSERT_EQ(header.size(), 12u) << slurp(dir / "out/summary.csv");
+  ASSERT_EQ(rows.size(), 3u) << slurp(dir / "out/summary.csv");
+  for (const auto& [name, row] : rows) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(sessions.count(name));
     const fs::path out = dir / "out" / name;
-    for (const char* file : {"views/view_000.ply", "model.ply", "frame.json", "model.png", "sheet.png", "report.html"})
-      EXPECT_TRUE(fs::exists(out / file)) << file;
-    const Json merge = read_json((out / "merge_report.json").string());
-    int accepted = 0;
-    for (const auto& v : merge["views"]) accepted += v["accepted"].get<bool>();
-    EXPECT_EQ(number(row.at("views")), static_cast<double>(merge["views"].size()));
-    EXPECT_EQ(number(row.at("views_accepted")), accepted);
-    EXPECT_GE(accepted, 3);
-    const Json tip = read_json((out / "tooltip.json").string());
-    const char* axes[] = {"tooltip_x", "tooltip_y", "tooltip_z"};
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(number(row.at(axes[a])), tip["position"][a].get<double>(), 1e-6);
+    expect_done(row, out);
+    EXPECT_GE(number(row.at("views_accepted")), 3);
     if (name == "rake") {
       EXPECT_FALSE(fs::exists(out / "evaluation.json"));
       for (const char* column :
@@ -123,19 +86,19 @@ TEST(Snakemake, ThreeSessionsAndTheSummary) {
   EXPECT_NE(slurm.find("runtime=60"), std::string::npos) << slurm;
 }
 
-// A session whose step fails: a line says so with the step's own error, the others finish, the table at the
-// end lists every session; once the session is mended, the same command runs its steps only.
-TEST(Snakemake, AFailedSessionReportedTheOthersDoneAndResumed) {
+// Two malformed sessions (a view's image, session.json itself) among good ones, with --keep-going: a line
+// says so with the step's own error, the good one finishes, the table at the end and summary.csv list every
+// session, the failed ones with their error; once a session is mended, the same command runs its steps only.
+TEST(Snakemake, FailedSessionsReportedTheOthersDoneAndResumed) {
   ASSERT_EQ(std::system("command -v snakemake >/dev/null 2>&1"), 0) << "snakemake is not installed";
   const auto dir = scratch_dir("snakemake-failed");
-  for (const char* name : {"hoe", "broken"})
-    ASSERT_EQ(
-        run_tool("simulate-session", "-q --stereo ideal --family hoe --seed 1 -o " + (dir / "sessions" / name).string())
-            .exit_code,
-        0);
+  for (const char* name : {"hoe", "broken"}) ASSERT_EQ(simulate_session(dir / "sessions" / name, "hoe", 1), 0);
   const fs::path disparity = dir / "sessions/broken/views/000/disparity.png";
   fs::copy_file(disparity, dir / "disparity.png");
   write_text(disparity, "not a PNG");
+  fs::create_directories(dir / "sessions/garbage");
+  const fs::path garbage = dir / "sessions/garbage/session.json";
+  write_text(garbage, "{ this is not a session");
   const std::string command = "snakemake -s " + kSnakefile + " --cores 2 --keep-going --directory " + dir.string() +
                               " --config sessions=" + (dir / "sessions").string() + " out=" + (dir / "out").string() +
                               " bin=" + toolinc::testing::kBinDir;
@@ -143,21 +106,30 @@ TEST(Snakemake, AFailedSessionReportedTheOthersDoneAndResumed) {
   const std::string log = slurp(dir / "run.log");
   const std::string error =
       "crop-cloud: error: " + disparity.parent_path().string() + ": disparity.png is not a readable PNG";
+  const std::string garbage_error = "crop_cloud: crop-cloud: error: " + garbage.string() + ": not valid JSON";
   EXPECT_NE(log.find("toolinc: session broken: crop_cloud failed: " + error), std::string::npos) << log;
-  EXPECT_NE(log.find("toolinc: session hoe done (1 of 2)"), std::string::npos) << log;
+  EXPECT_NE(log.find("toolinc: session hoe done (1 of 3)"), std::string::npos) << log;
   EXPECT_NE(log.find("toolinc: broken   failed   crop_cloud: " + error), std::string::npos) << log;
+  EXPECT_NE(log.find("toolinc: garbage  failed   " + garbage_error), std::string::npos) << log;
   EXPECT_NE(log.find("toolinc: hoe      done"), std::string::npos) << log;
-  EXPECT_NE(log.find("toolinc: 1 done, 1 failed, 0 not run, of 2"), std::string::npos) << log;
-  EXPECT_TRUE(fs::exists(dir / "out/hoe/report.html"));
-  EXPECT_FALSE(fs::exists(dir / "out/summary.csv"));  // it waits for every session
+  EXPECT_NE(log.find("toolinc: 1 done, 2 failed, 0 not run, of 3"), std::string::npos) << log;
+  std::vector<std::string> header;
+  auto rows = read_summary(dir / "out/summary.csv", &header);
+  ASSERT_EQ(rows.size(), 3u) << slurp(dir / "out/summary.csv");
+  expect_done(rows["hoe"], dir / "out/hoe");
+  expect_failed(rows["broken"], "crop_cloud: " + error);
+  expect_failed(rows["garbage"], garbage_error);
 
   fs::copy_file(dir / "disparity.png", disparity, fs::copy_options::overwrite_existing);
-  ASSERT_EQ(shell(command, dir / "again.log"), 0) << slurp(dir / "again.log");
+  EXPECT_NE(shell(command, dir / "again.log"), 0);
   const std::string again = slurp(dir / "again.log");
   EXPECT_EQ(again.find("wildcards: name=hoe"), std::string::npos) << again;
-  EXPECT_NE(again.find("toolinc: session broken done (2 of 2)"), std::string::npos) << again;
-  EXPECT_NE(again.find("toolinc: 2 done, 0 failed, 0 not run, of 2"), std::string::npos) << again;
-  EXPECT_TRUE(fs::exists(dir / "out/summary.csv"));
+  EXPECT_NE(again.find("toolinc: session broken done (2 of 3)"), std::string::npos) << again;
+  EXPECT_NE(again.find("toolinc: 2 done, 1 failed, 0 not run, of 3"), std::string::npos) << again;
+  rows = read_summary(dir / "out/summary.csv", &header);
+  ASSERT_EQ(rows.size(), 3u) << slurp(dir / "out/summary.csv");
+  expect_done(rows["broken"], dir / "out/broken");
+  expect_failed(rows["garbage"], garbage_error);
 }
 
 TEST(Snakemake, NoSessionsIsAClearError) {

@@ -31,6 +31,9 @@ CLI::Option* add_xyz_option(CLI::App& cli, const std::string& name, std::vector<
 // different units or the model is not usable as a tool model (its frame cannot be estimated).
 PoseModel pose_model_of(const PointCloud& model, const PointCloud& view, const AlignPoseConfig& config,
                         const std::string& model_file, const std::string& view_file);
+// A tool model as pose_model_of takes it, whatever the view: throws InputError naming the file when its
+// extent is no tool's (too small, or millimetres) or its frame cannot be estimated.
+PoseModel tool_model_of(const PointCloud& model, const AlignPoseConfig& config, const std::string& model_file);
 
 // Reads a cloud, logs what was read (and how many non-finite points were dropped), and rejects a cloud
 // with no finite point as bad input.

@@ -23,17 +23,19 @@ struct DnnFeatureConfig {
   std::string output_layer;  // the layer whose output is the feature; empty: the network's output
 };
 
-// Throws std::invalid_argument on a bad size, a zero std or an unknown channel order.
+// Throws std::invalid_argument on a bad size, a mean that is not finite, a std that is not positive and
+// finite, or an unknown channel order.
 void check(const DnnFeatureConfig& config);
 
 class DnnFeatureExtractor {
  public:
   // Loads the model; when expected_sha256 is not empty, a model whose digest differs is refused.
-  // Throws InputError(model, ...) when the file is missing, is not a network OpenCV can load, has no
-  // layer called output_layer, or has the wrong digest.
+  // Throws InputError(model, ...) when the file is missing, fails check_onnx (onnx_check.hpp), is not a
+  // network OpenCV can load, has no layer called output_layer, has the wrong digest, or gives output that
+  // is not finite on a grey image.
   explicit DnnFeatureExtractor(DnnFeatureConfig config, const std::string& expected_sha256 = "");
 
-  // The flattened output for an 8-bit BGR crop, L2-normalised.
+  // The flattened output for an 8-bit BGR crop, L2-normalised; InputError(model, ...) when not finite.
   Eigen::VectorXd extract(const cv::Mat& bgr);
 
   const DnnFeatureConfig& config() const { return config_; }

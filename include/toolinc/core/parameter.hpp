@@ -4,7 +4,6 @@
 // from tables of these; the shipped config and the docs' parameter tables are checked against them.
 #pragma once
 
-#include <limits>
 #include <type_traits>
 #include <variant>
 
@@ -19,10 +18,20 @@ struct Parameter {
   const char* unit;  // "m", "deg", "px", "s", or "" (a count, a share, a ratio)
   const char* meaning;
   Field field;
-  double min;  // the allowed range: [min, max], or (min, max] when min_exclusive
+  double min;  // the allowed range: [min, max], or (min, max] when min_exclusive; every bound finite
   bool min_exclusive;
-  double max = std::numeric_limits<double>::infinity();
+  double max;
 };
+
+// The physical bounds the tables' ranges draw on. A length the robot resolves is no finer than a tenth
+// of a millimetre (its stereo noise is about one) and none it handles exceeds 2 m (the arm reaches under
+// 1 m): a finer grid or section or a longer reach only multiplies cells, sections or steps without bound.
+constexpr double kMinLength = 1e-4;  // m
+constexpr double kMaxLength = 2.0;   // m
+// A count of points or neighbours: no cloud holds more (io/limits.hpp's kMaxCloudPoints).
+constexpr double kMaxCount = 1e7;
+// Iterations of a loop that converges in tens.
+constexpr double kMaxIterations = 1000;
 
 template <class Config, auto Outer, auto Inner>
 auto& nested(Config& config) {

@@ -16,5 +16,7 @@ constexpr std::size_t kMaxCloudPoints = 10'000'000;
 // 1000 m leaves room for clouds in millimetres (rejected later as the wrong unit, with a message) while
 // keeping every voxel index of a 1 um grid far inside 64-bit integers.
 constexpr double kMaxCoordinate = 1000.0;
+// Width or height of an image, px: libpng's own default limit, beyond which it prints warnings of its own.
+constexpr std::size_t kMaxImageSide = 1'000'000;
 
 }  // namespace toolinc

@@ -109,7 +109,13 @@ struct PoseResult {
                                                      // final refinement
 };
 
-// Why model and view cannot share units (their extents differ by more than max_extent_ratio), or empty.
+// Why a cloud cannot be a tool, what being "the model" or "the view", or empty: its bounding box's diagonal
+// is under 1 cm (a single point, copies of one, a speck) or over 2 m (no tool the hand holds: millimetres?).
+std::string implausible_extent(const Points& points, const std::string& what);
+
+// Why model and view cannot be a tool and its view in metres, or empty: either's extent is implausible (the
+// view's checked first) or their extents differ by more than max_extent_ratio. The reason starts with
+// "the model" or "the view", whichever is at fault.
 std::string unit_mismatch(const Points& model, const Points& view, double max_extent_ratio);
 
 // view: the tool in the hand frame. Throws MethodError when the view has too few points or no tool frame.
