@@ -272,12 +272,22 @@ Pose pin_far_end(const PoseModel& model, const Points& view, const std::vector<d
 
 }  // namespace
 
+namespace {
+
+// The frames the pose starts from: the rules' handle and planes, whose guesses the pose's evaluation
+// (evaluate-poses) measured; the search picks a tooltip, not a pose's start.
+ToolFrameConfig handle_guess_frame_config(const AlignPoseConfig& config) {
+  ToolFrameConfig frame_config;
+  frame_config.method = FrameMethod::rules;
+  frame_config.hand_radius = config.hand_radius;
+  return frame_config;
+}
+
+}  // namespace
+
 PoseModel::PoseModel(const Points& canonical, const AlignPoseConfig& config)
-    : target(voxel_downsample(canonical, config.model_voxel)), frame(estimate_tool_frame(canonical, [&] {
-        ToolFrameConfig frame_config;
-        frame_config.hand_radius = config.hand_radius;
-        return frame_config;
-      }())) {}
+    : target(voxel_downsample(canonical, config.model_voxel)),
+      frame(estimate_tool_frame(canonical, handle_guess_frame_config(config))) {}
 
 double rotation_difference_deg(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) {
   return rotation_angle_deg(a.topLeftCorner<3, 3>().transpose() * b.topLeftCorner<3, 3>());
@@ -357,10 +367,8 @@ PoseResult align_pose(const PoseModel& model, const Points& view, const AlignPos
         fmt::format("too few view points: {} of {} remain outside the hand ({} m) at {} m "
                     "resampling; at least {} are needed",
                     points.size(), view.size(), config.hand_radius, config.view_voxel, config.min_view_points));
-  ToolFrameConfig frame_config;
-  frame_config.hand_radius = config.hand_radius;
-  const std::vector<HandleGuess> view_handles =
-      view_handle_guesses(estimate_tool_frame(points, frame_config), points, model.frame.handle_radius, config);
+  const std::vector<HandleGuess> view_handles = view_handle_guesses(
+      estimate_tool_frame(points, handle_guess_frame_config(config)), points, model.frame.handle_radius, config);
   result.view_ms = milliseconds_since(start);
 
   start = std::chrono::steady_clock::now();
