@@ -788,8 +788,10 @@ std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points&
       rules_plane ? 1.0 : 0.0,  // the plane the rules choose about this handle, not an alternative
       // How much farther the effector reaches along +X than along -X, as a share of both (-1 to 1)
       forward + backward > 0.0 ? (forward - backward) / (forward + backward) : 0.0,
-      f.diagnostics.head_curl / c.head_curl_min,  // the head's edges rising towards +X (a scoop's concave side)
-      head_out > 0.0 ? head_x / head_out : 0.0,   // the head's side
+      // The head's edges rising towards +X (a scoop's concave side), saturating once clear of the noise
+      std::tanh(f.diagnostics.head_curl / c.head_curl_min),
+      head_out > 0.0 ? head_x / head_out : 0.0,  // the head's side
+      f.tip_at_far_end() ? 1.0 : 0.0,            // a blade or scoop continuing the handle: its tip its far end
   };
 }
 
@@ -823,8 +825,9 @@ const std::array<const char*, kFrameFeatures>& frame_feature_names() {
                                                              "mirror_score",
                                                              "rules_plane",
                                                              "effector_reach_asymmetry",
-                                                             "head_curl_per_curl_min",
-                                                             "head_side"};
+                                                             "head_curl_saturated",
+                                                             "head_side",
+                                                             "blade_or_scoop"};
   return names;
 }
 
