@@ -204,7 +204,10 @@ double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction
 }
 
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config) {
-  const KdTree tree(points);
+  return find_tooltip(points, KdTree(points), frame, config);
+}
+
+Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config) {
   const Pick p = pick(points, tree, frame, config);
   if (p.chosen == KdTree::npos)
     throw MethodError(

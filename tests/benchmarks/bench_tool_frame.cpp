@@ -1,5 +1,5 @@
-// estimate-frame + find-tooltip on a 10k-point held tool (issue floor: <= 20 ms on one core; the
-// original's frame estimation alone takes 70-110 ms on such clouds).
+// estimate-frame + find-tooltip on a 10k-point held tool, by the rules and by the search (floor: <= 10 ms on
+// one core; the original's frame estimation alone takes 70-110 ms on such clouds).
 #include <benchmark/benchmark.h>
 
 #include "toolinc/frame/tool_frame.hpp"
@@ -25,12 +25,15 @@ Points held_tool_10k(ToolFamily family) {
 
 void BM_FrameAndTooltip(benchmark::State& state) {
   const auto family = static_cast<ToolFamily>(state.range(0));
+  ToolFrameConfig config;
+  config.method = state.range(1) == 0 ? FrameMethod::rules : FrameMethod::search;
   const Points points = held_tool_10k(family);
   for (auto _ : state) {
-    const ToolFrame frame = estimate_tool_frame(points);
+    const ToolFrame frame = estimate_tool_frame(points, config);
     benchmark::DoNotOptimize(find_tooltip(points, frame));
   }
-  state.SetLabel(to_string(family) + ", " + std::to_string(points.size()) + " points");
+  state.SetLabel(to_string(family) + ", " + to_string(config.method) + ", " + std::to_string(points.size()) +
+                 " points");
 }
 
 void BM_FrameOnly(benchmark::State& state) {
@@ -40,6 +43,8 @@ void BM_FrameOnly(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_FrameAndTooltip)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrameAndTooltip)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, 7, 1), {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrameOnly)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

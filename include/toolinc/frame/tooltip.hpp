@@ -68,5 +68,7 @@ double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction
 
 // Throws MethodError when no effector-side point passes the density check.
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {});
+// The same with the points' tree already built (tree over points), for many frames of one cloud.
+Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config);
 
 }  // namespace toolinc
