@@ -2,6 +2,7 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "toolinc/core/error.hpp"
@@ -150,6 +151,33 @@ std::string merge_section(const SessionReport& r) {
              r.model_points);
 }
 
+// The search's choice and the best hypothesis whose tooltip lies elsewhere (beyond 10 mm), with their
+// probabilities: what a doubtful searched frame was torn between. Nothing for a frame made by the rules.
+std::string hypotheses_section(const ToolFrame& frame) {
+  const auto& all = frame.diagnostics.hypotheses;
+  if (all.empty()) return "";
+  const ScoredHypothesis& chosen = all.front();
+  const auto elsewhere = std::find_if(all.begin() + 1, all.end(), [&](const ScoredHypothesis& h) {
+    return !h.tooltip || !chosen.tooltip || (*h.tooltip - *chosen.tooltip).norm() > 0.01;
+  });
+  std::string html = fmt::format(
+      "<table id=\"hypotheses\">\n<thead><tr><th class=\"text\">hypothesis ({} weighed; the chosen tooltip's "
+      "probability {:.2f})</th><th class=\"text\">handle</th><th class=\"text\">plane, side</th><th>probability</th>"
+      "<th>tip x</th><th>tip y</th><th>tip z</th></tr></thead>\n<tbody>\n",
+      all.size(), frame.diagnostics.tooltip_probability);
+  const auto row = [&](const char* what, const ScoredHypothesis& h) {
+    html += fmt::format(
+        "<tr><td class=\"text\">{}</td><td class=\"text\">{}</td><td class=\"text\">{}{}</td>"
+        "<td>{:.2f}</td>{}</tr>\n",
+        what, e(h.handle_source), h.rules_plane ? "the rules' plane" : "another plane",
+        h.other_side ? ", other side" : "", h.probability,
+        h.tooltip ? vector_cells(*h.tooltip, 4) : "<td></td><td></td><td></td>");
+  };
+  row("chosen", chosen);
+  if (elsewhere != all.end()) row("next, its tip elsewhere", *elsewhere);
+  return html + "</tbody>\n</table>\n";
+}
+
 std::string frame_section(const SessionReport& r) {
   std::string html =
       "<h2>Tool frame</h2>\n<table id=\"frame\">\n<thead><tr><th class=\"text\"></th><th>x</th>"
@@ -166,7 +194,11 @@ std::string frame_section(const SessionReport& r) {
                                    "effector's sign is a guess). ";
   if (r.symmetry_score) notes += fmt::format("Symmetry score {:.3f} (0 perfect mirror, 1 none).", *r.symmetry_score);
   if (!notes.empty()) html += "<p class=\"note\">" + e(notes) + "</p>\n";
-  return html;
+  const Confidence& c = r.frame.confidence;
+  html += "<p class=\"note\">" +
+          e(c.confident ? std::string("Confident.") : fmt::format("Doubtful: {}.", fmt::join(c.doubts, "; "))) +
+          "</p>\n";
+  return html + hypotheses_section(r.frame);
 }
 
 std::string tooltip_section(const SessionReport& r) {

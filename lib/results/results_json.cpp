@@ -175,6 +175,32 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   };
   read_planes("tied_planes", frame.tied_planes);
   read_planes("rival_planes", frame.rival_planes);
+  // The search's hypotheses, when it made the frame, so that the report can show what it weighed.
+  if (diagnostics.contains("hypotheses")) {
+    const Json& list = diagnostics["hypotheses"];
+    if (!list.is_array()) throw InputError(path, "diagnostics.hypotheses must be an array");
+    for (const auto& h : list) {
+      const auto field = [&](const char* name, bool (Json::*is)() const) -> const Json& {
+        if (!h.is_object() || !h.contains(name) || !(h[name].*is)())
+          throw InputError(path, std::string("diagnostics.hypotheses: a hypothesis lacks a valid ") + name);
+        return h[name];
+      };
+      ScoredHypothesis s;
+      s.handle_source = field("handle", &Json::is_string).get<std::string>();
+      s.rules_plane = field("rules_plane", &Json::is_boolean).get<bool>();
+      s.other_side = field("other_side", &Json::is_boolean).get<bool>();
+      s.probability = field("probability", &Json::is_number).get<double>();
+      if (!(s.probability >= 0.0 && s.probability <= 1.0))
+        throw InputError(path, "diagnostics.hypotheses: a probability outside [0, 1]");
+      s.effector_axis = vector3_field(h, "effector_axis", path);
+      s.handle_axis = vector3_field(h, "handle_axis", path);
+      if (!h.contains("tooltip")) throw InputError(path, "diagnostics.hypotheses: a hypothesis lacks its tooltip");
+      if (!h["tooltip"].is_null()) s.tooltip = vector3_field(h, "tooltip", path);
+      frame.diagnostics.hypotheses.push_back(std::move(s));
+    }
+    if (diagnostics.contains("tooltip_probability") && diagnostics["tooltip_probability"].is_number())
+      frame.diagnostics.tooltip_probability = diagnostics["tooltip_probability"].get<double>();
+  }
   return frame;
 }
 

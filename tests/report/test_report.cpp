@@ -3,6 +3,7 @@
 // every input text is escaped, the same inputs give the same bytes, and a folder missing an input is a
 // clear error that leaves nothing behind.
 #include <gtest/gtest.h>
+#include <spdlog/fmt/fmt.h>
 
 #include <cstring>
 #include <fstream>
@@ -275,6 +276,39 @@ TEST_F(Report, TablesHoldTheJsonNumbers) {
   EXPECT_NEAR(number(errors[2][1]), evaluation["frame"]["effector_axis_error_deg"].get<double>(), 0.0051);
   EXPECT_NEAR(number(errors[3][1]), 1000 * evaluation["frame"]["origin_error_m"].get<double>(), 0.051);
   EXPECT_EQ(errors[4][1], evaluation["frame"]["right_handed"].get<bool>() ? "yes" : "no");
+}
+
+TEST_F(Report, ASearchedFrameShowsItsChoiceTheNextTipAndWhyItIsDoubtful) {
+  // The rules' frame: a confidence note, no hypotheses.
+  const auto rules_tokens = tokenize(slurp(outputs() / "report.html"));
+  EXPECT_TRUE(table_rows(rules_tokens, "hypotheses").empty());
+  const bool rules_confident = json("frame.json")["confidence"]["confident"].get<bool>();
+  EXPECT_NE(slurp(outputs() / "report.html").find(rules_confident ? "Confident." : "Doubtful: "), std::string::npos);
+
+  // The same model's frame by the search: its chosen hypothesis and the next whose tip lies elsewhere.
+  const fs::path copy = copy_outputs("searched");
+  const auto frame = run_tool("estimate-frame", "-q " + (outputs() / "model.ply").string() + " --method search -o " +
+                                                    (copy / "frame.json").string());
+  ASSERT_EQ(frame.exit_code, 0) << frame.err;
+  const auto report = run_tool("report", "-q " + copy.string() + " -o " + (copy / "report.html").string());
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = slurp(copy / "report.html");
+  const auto tokens = tokenize(html);
+  expect_well_formed(tokens);
+  const Json searched = read_json((copy / "frame.json").string());
+  const Json& hypotheses = searched["diagnostics"]["hypotheses"];
+  const auto rows = table_rows(tokens, "hypotheses");
+  ASSERT_GE(rows.size(), 1u);
+  ASSERT_LE(rows.size(), 2u);
+  EXPECT_EQ(rows[0][0], "chosen");
+  EXPECT_EQ(rows[0][1], hypotheses[0]["handle"].get<std::string>());
+  EXPECT_NEAR(number(rows[0][3]), hypotheses[0]["probability"].get<double>(), 0.0051);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(number(rows[0][4 + a]), hypotheses[0]["tooltip"][a].get<double>(), 5.1e-5);
+  EXPECT_NE(html.find(fmt::format("the chosen tooltip's probability {:.2f}",
+                                  searched["diagnostics"]["tooltip_probability"].get<double>())),
+            std::string::npos);
+  if (!searched["confidence"]["confident"].get<bool>())
+    EXPECT_NE(html.find("Doubtful: the search&#39;s tooltip"), std::string::npos);
 }
 
 TEST_F(Report, ImagesAreEmbeddedAndDecode) {
