@@ -18,6 +18,7 @@
 #include "toolinc/app/command.hpp"
 #include "toolinc/app/options.hpp"
 #include "toolinc/app/progress.hpp"
+#include "toolinc/app/range.hpp"
 #include "toolinc/core/choice_model.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/statistics.hpp"
@@ -95,26 +96,26 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_option("--grasps", grasps, "Sessions per family fitted on")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000));
+      ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--calibration-first-seed", calibration_first_seed,
                  "Seed of the first grasp the confidence is calibrated on (never fitted on)")
       ->capture_default_str();
   cli.add_option("--calibration-grasps", calibration_grasps, "Sessions per family the confidence is calibrated on")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000));
+      ->check(toolinc::in_range({1, false, 10000, ""}));
   cli.add_option("--tip-tolerance", tip_tolerance, "m: a hypothesis whose tooltip lies this close is right")
       ->capture_default_str()
-      ->check(CLI::Range(0.001, 0.1));
+      ->check(toolinc::in_range({0.001, false, 0.1, "m"}));
   cli.add_option("--confident-tolerance", confident_tolerance,
                  "m: a confident tooltip must lie this close to the truth ...")
       ->capture_default_str()
-      ->check(CLI::Range(0.001, 0.1));
+      ->check(toolinc::in_range({0.001, false, 0.1, "m"}));
   cli.add_option("--precision", precision, "... in this share of the calibration sessions called confident")
       ->capture_default_str()
-      ->check(CLI::Range(0.5, 1.0));
+      ->check(toolinc::in_range({0.5, false, 1.0, ""}));
   cli.add_option("--ridge", ridge, "L2 penalty on the weights (features are of order 1)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(toolinc::in_range({0.0, false, 100.0, ""}));
   cli.add_option("--stereo", stereo, "The sessions' stereo model, as simulate-session --stereo")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();

@@ -748,6 +748,17 @@ Prepared prepare(const Points& input, const ToolFrameConfig& config) {
   return p;
 }
 
+// A frame as one hypothesis of the search: one plane and one side. The rules' tied and rival planes and
+// their doubt of the side are other hypotheses there, weighed by the search, not alternatives of this one
+// (nor does find-tooltip spend time on them); its confidence is the search's to set.
+ToolFrame as_hypothesis(ToolFrame frame) {
+  frame.tied_planes = {frame.diagnostics.symmetry_candidates.back()};
+  frame.rival_planes.clear();
+  frame.effector_side_clear = true;
+  frame.confidence = Confidence{};
+  return frame;
+}
+
 // The same frame with the effector on the other side of the handle (X and Z turned, so it stays
 // right-handed; the symmetry plane and the origin on it are the same).
 ToolFrame other_side(ToolFrame frame) {
@@ -870,9 +881,9 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   std::vector<FrameHypothesis> hypotheses;
   for (const auto& [source, handle] : candidates) {
     const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config);
-    std::vector<ToolFrame> frames{rules};
+    std::vector<ToolFrame> frames{as_hypothesis(rules)};
     for (const double angle : alternative_planes_deg(rules))
-      frames.push_back(frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config, angle));
+      frames.push_back(as_hypothesis(frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config, angle)));
     for (std::size_t plane = 0; plane < frames.size(); ++plane)
       for (const bool reversed : {false, true}) {
         FrameHypothesis h{
@@ -916,11 +927,6 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     const double probability = tooltip_probability(scores, tooltips, order.front(), TooltipConfig{}.ambiguity_distance);
     const double needed = fitted_frame_score().confident_probability;
     frame.diagnostics.tooltip_probability = probability;
-    // The other planes and side are hypotheses the search weighed, not alternatives left open.
-    frame.tied_planes = {frame.diagnostics.symmetry_candidates.back()};
-    frame.rival_planes.clear();
-    frame.effector_side_clear = true;
-    frame.confidence = Confidence{};
     frame.confidence.check(probability >= needed ? std::max((probability - needed) / std::max(1.0 - needed, 1e-9), 1e-9)
                                                  : probability - needed,
                            fmt::format("the search's tooltip ({}{}{}) is right with probability {:.2f}, below {:.2f}",
