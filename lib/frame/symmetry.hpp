@@ -12,37 +12,51 @@
 
 namespace toolinc {
 
-class SymmetryScorer {
+// The cloud mirror images are matched against: its tree and, when first needed, its points' tangent-plane
+// normals (from normal_neighbors nearest points; 0: none). Every scorer over the same cloud can share one,
+// whatever it mirrors, so the tree is built and each normal computed once. Not thread-safe (it caches
+// normals); points must outlive it.
+class MirrorTarget {
  public:
-  // points: the resampled cloud; the scorer mirrors an evenly spaced subset of at most `samples` of
-  // them, drawn from `mirrored` (indices into points) when given, else from every point. tolerance:
-  // mirror images this far or farther from the cloud are off it. match_weight: what a matched image's
-  // distance / tolerance weighs against a contradicted image (1). free_space (optional, must outlive
-  // the scorer): an image off the cloud is a contradiction only where a sensor saw empty space, and no
-  // evidence where no sensor could have seen it; without it every image off the cloud contradicts.
-  // normal_neighbors (0: none): a matched image's distance is then to the nearest point's tangent plane
-  // (its normal from that many nearest points), which unlike the distance to the nearest point does not
-  // depend on how the surface was sampled. Normals are computed when first needed: mirror images land
-  // near the mirrored part only.
-  SymmetryScorer(const Points& points, std::size_t samples, double tolerance, double match_weight = 1.0,
-                 const FreeSpace* free_space = nullptr, int normal_neighbors = 0,
-                 const std::vector<std::uint32_t>* mirrored = nullptr);
+  explicit MirrorTarget(const Points& points, int normal_neighbors = 0);
 
-  // Over the mirror images that are evidence (matched, or off the cloud where a sensor could have seen
-  // them): (contradicted + match_weight x matched distance / tolerance) / their number. 0 for a perfect
-  // mirror, 1 when every image contradicts or none is evidence. Not thread-safe (it caches normals).
-  double score(const Vec3& normal, const Vec3& point_on_plane) const;
+  const Points& points() const { return points_; }
+  const KdTree& tree() const { return tree_; }
+  int normal_neighbors() const { return normal_neighbors_; }
+  const Vec3& normal(std::uint32_t index) const;
 
  private:
   const Points& points_;
   KdTree tree_;
+  int normal_neighbors_;
+  mutable Points normals_;  // per point, valid where normal_known_
+  mutable std::vector<bool> normal_known_;
+};
+
+class SymmetryScorer {
+ public:
+  // target: the resampled cloud (which must outlive the scorer); the scorer mirrors an evenly spaced subset
+  // of at most `samples` of its points, drawn from `mirrored` (indices into them) when given, else from
+  // every point. tolerance: mirror images this far or farther from the cloud are off it. match_weight: what
+  // a matched image's distance / tolerance weighs against a contradicted image (1). free_space (optional,
+  // must outlive the scorer): an image off the cloud is a contradiction only where a sensor saw empty
+  // space, and no evidence where no sensor could have seen it; without it every image off the cloud
+  // contradicts. With the target's normals, a matched image's distance is to the nearest point's tangent
+  // plane, which unlike the distance to the nearest point does not depend on how the surface was sampled.
+  SymmetryScorer(const MirrorTarget& target, std::size_t samples, double tolerance, double match_weight = 1.0,
+                 const FreeSpace* free_space = nullptr, const std::vector<std::uint32_t>* mirrored = nullptr);
+
+  // Over the mirror images that are evidence (matched, or off the cloud where a sensor could have seen
+  // them): (contradicted + match_weight x matched distance / tolerance) / their number. 0 for a perfect
+  // mirror, 1 when every image contradicts or none is evidence. Not thread-safe (the target caches normals).
+  double score(const Vec3& normal, const Vec3& point_on_plane) const;
+
+ private:
+  const MirrorTarget& target_;
   std::vector<std::uint32_t> samples_;
   double tolerance_;
   double match_weight_;
   const FreeSpace* free_space_;
-  int normal_neighbors_;
-  mutable Points normals_;  // per point, valid where normal_known_
-  mutable std::vector<bool> normal_known_;
 };
 
 }  // namespace toolinc

@@ -493,13 +493,106 @@ std::vector<std::pair<std::string, HandleFit>> handle_candidates(const Points& c
   return kept;
 }
 
+// What the frame about a handle owes to the handle alone, whatever symmetry plane is then chosen about it:
+// the directions across it, its head, the mirror sweep, the refined planes tied in it and the plane the
+// rules choose. The search completes several planes about each handle and measures this once.
+struct AboutHandle {
+  // target: the cloud's, shared by every handle; free_space: where the sensors saw empty space (null
+  // without viewpoints). Both must outlive this.
+  AboutHandle(const Points& cloud, const PrincipalAxes& principal, const HandleFit& handle, const MirrorTarget& target,
+              const FreeSpace* free_space, const ToolFrameConfig& config);
+
+  Vec3 normal_at(double angle) const { return std::cos(angle) * u + std::sin(angle) * v; }
+  double score_at(double angle) const { return scorer.score(normal_at(angle), centre); }
+
+  Vec3 y_axis, u, v;
+  // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
+  // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
+  Vec3 centre;
+  Cylinder line;  // the handle's axis line
+  std::vector<std::uint32_t> head;
+  double head_extent;
+  SymmetryScorer scorer;
+  double step;  // the sweep's, rad
+  std::vector<SymmetryCandidate> sweep, tied_planes;
+  std::optional<Vec3> blade;  // across the head, when it is a blade
+  double rules_angle = 0.0;   // the rules' plane, before a bar along it moves it
+};
+
+// Symmetry plane: it contains the handle axis, so sweep its normal about Y and refine the best angles.
+AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, const HandleFit& handle,
+                         const MirrorTarget& target, const FreeSpace* free_space, const ToolFrameConfig& config)
+    : y_axis(handle.axis.normalized()),
+      u(principal.axes.col(1) - principal.axes.col(1).dot(y_axis) * y_axis),
+      centre(handle.point),
+      line{centre, y_axis, 0.0, 0.0},
+      // Only the head's points are mirrored. Points near the handle's axis mirror onto the handle across
+      // every plane through it, so they say nothing about the plane, and the handle's never-seen back half
+      // pulls the plane towards the cameras. A stick has no head: all its points are mirrored.
+      head([&] {
+        std::vector<std::uint32_t> head;
+        for (std::uint32_t i = 0; i < cloud.size(); ++i)
+          if ((cloud[i] - principal.centroid).dot(y_axis) < 0 &&
+              radial_distance(line, cloud[i]) >= config.head_radius_factor * handle.radius)
+            head.push_back(i);
+        return head;
+      }()),
+      // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
+      head_extent(effector_extent(cloud, principal.centroid, line, config.salience_quantile)),
+      scorer(target, static_cast<std::size_t>(std::max(1, config.symmetry_samples)), config.symmetry_tolerance,
+             config.symmetry_match_weight, free_space,
+             static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr),
+      step(config.symmetry_step_deg * kDeg) {
+  if (u.norm() < 1e-6) u = principal.axes.col(2) - principal.axes.col(2).dot(y_axis) * y_axis;
+  u.normalize();
+  v = y_axis.cross(u);
+  for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
+    sweep.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
+  // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
+  // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
+  // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across
+  // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
+  // effector reaches farthest, since the effector axis is the head's forward extent.
+  blade = blade_across(cloud, head, centre, y_axis, u, v, config);
+  // A front that is a corner, not a face, loses to one that is.
+  std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
+  for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
+    const double lowest = sweep[i].angle_deg * kDeg;
+    const auto [angle, score] = golden_minimum([&](double a) { return score_at(a); }, lowest - step, lowest + step, 8);
+    const Vec3 x_axis = y_axis.cross(normal_at(angle));
+    const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, x_axis, config.salience_quantile);
+    const bool forward = r.positive >= r.negative;
+    const bool face =
+        front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis), config.front_band);
+    tied_planes.push_back({angle / kDeg, normal_at(angle), score});
+    const std::pair<bool, double> merit{face, std::max(r.positive, r.negative)};
+    if (merit > best_merit) {
+      best_merit = merit;
+      rules_angle = angle;
+    }
+  }
+  // A blade's plane is the one across it, refined by the mirror within a step: its own plane mirrors any
+  // thin plate, and it often mirrors best.
+  if (blade) {
+    const double across = std::atan2(blade->dot(v), blade->dot(u));
+    rules_angle = golden_minimum([&](double a) { return score_at(a); }, across - step, across + step, 8).first;
+  }
+}
+
 // The frame about a given handle: the symmetry plane through it, the effector axis and its side, the
-// head's kind and the doubts. `frame` holds what preparing the cloud found; free_space, where the sensors
-// saw empty space (null without viewpoints).
+// head's kind and the doubts. `frame` holds what preparing the cloud found; about, what the handle alone
+// decides.
 ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const PrincipalAxes& principal,
-                             const HandleFit& handle, const FreeSpace* free_space, const ToolFrameConfig& config,
+                             const HandleFit& handle, const AboutHandle& about, const ToolFrameConfig& config,
                              std::optional<double> plane_angle_deg = std::nullopt) {
-  const Vec3 y_axis = handle.axis.normalized();
+  const Vec3& y_axis = about.y_axis;
+  const Vec3 &u = about.u, &v = about.v, &centre = about.centre;
+  const auto& head = about.head;
+  const auto& sweep = about.sweep;
+  const Cylinder& handle_line = about.line;
+  const double step = about.step;
+  const auto normal_at = [&](double angle) { return about.normal_at(angle); };
+  const auto score_at = [&](double angle) { return about.score_at(angle); };
   frame.handle_point = handle.point;
   frame.diagnostics.handle_points = handle.points;
   frame.handle_radius = handle.radius;
@@ -508,69 +601,13 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   frame.diagnostics.handle_refinement_deg =
       std::acos(std::min(1.0, std::abs(y_axis.dot(principal.axes.col(0))))) / kDeg;
   frame.diagnostics.handle_sign_rule = "towards the hand: the hand origin lies on the +Y side of the handle";
-
-  // Symmetry plane: it contains the handle axis, so sweep its normal about Y and refine the best
-  // angles. The plane across the handle is scored for the record only.
-  Vec3 u = principal.axes.col(1) - principal.axes.col(1).dot(y_axis) * y_axis;
-  if (u.norm() < 1e-6) u = principal.axes.col(2) - principal.axes.col(2).dot(y_axis) * y_axis;
-  u.normalize();
-  const Vec3 v = y_axis.cross(u);
-  const auto normal_at = [&](double angle) -> Vec3 { return std::cos(angle) * u + std::sin(angle) * v; };
-  // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
-  // axis fixes the plane's offset even when part of the tool was never seen and the centroid is off it.
-  const Vec3& centre = handle.point;
-  // Only the head's points are mirrored. Points near the handle's axis mirror onto the handle across
-  // every plane through it, so they say nothing about the plane, and the handle's never-seen back half
-  // pulls the plane towards the cameras. A stick has no head: all its points are mirrored.
-  const Cylinder handle_line{centre, y_axis, 0.0, 0.0};
-  std::vector<std::uint32_t> head;
-  for (std::uint32_t i = 0; i < cloud.size(); ++i)
-    if ((cloud[i] - principal.centroid).dot(y_axis) < 0 &&
-        radial_distance(handle_line, cloud[i]) >= config.head_radius_factor * handle.radius)
-      head.push_back(i);
-  // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
-  frame.diagnostics.head_extent = effector_extent(cloud, principal.centroid, handle_line, config.salience_quantile);
+  frame.diagnostics.head_extent = about.head_extent;
   frame.stick = frame.diagnostics.head_extent < config.stick_width;
-  const SymmetryScorer scorer(cloud, static_cast<std::size_t>(std::max(1, config.symmetry_samples)),
-                              config.symmetry_tolerance, config.symmetry_match_weight, free_space,
-                              config.symmetry_normal_neighbors,
-                              static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr);
-  const auto score_at = [&](double angle) { return scorer.score(normal_at(angle), centre); };
-  const double step = config.symmetry_step_deg * kDeg;
-  for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
-    frame.diagnostics.symmetry_candidates.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
-  // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
-  // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
-  // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across
-  // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
-  // effector reaches farthest, since the effector axis is the head's forward extent.
-  const auto& sweep = frame.diagnostics.symmetry_candidates;
-  std::optional<Vec3> blade = blade_across(cloud, head, centre, y_axis, u, v, config);
+  frame.diagnostics.symmetry_candidates = about.sweep;
+  frame.tied_planes = about.tied_planes;
+  std::optional<Vec3> blade = about.blade;
   frame.diagnostics.head_is_blade = blade.has_value();
-  // A front that is a corner, not a face, loses to one that is.
-  double best_angle = 0.0;
-  std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
-  for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
-    const double lowest = sweep[i].angle_deg * kDeg;
-    const auto [angle, score] = golden_minimum(score_at, lowest - step, lowest + step, 8);
-    const Vec3 x_axis = y_axis.cross(normal_at(angle));
-    const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, x_axis, config.salience_quantile);
-    const bool forward = r.positive >= r.negative;
-    const bool face =
-        front_is_face(cloud, principal.centroid, y_axis, forward ? x_axis : Vec3(-x_axis), config.front_band);
-    frame.tied_planes.push_back({angle / kDeg, normal_at(angle), score});
-    const std::pair<bool, double> merit{face, std::max(r.positive, r.negative)};
-    if (merit > best_merit) {
-      best_merit = merit;
-      best_angle = angle;
-    }
-  }
-  // A blade's plane is the one across it, refined by the mirror within a step: its own plane mirrors any
-  // thin plate, and it often mirrors best.
-  if (blade) {
-    const double across = std::atan2(blade->dot(v), blade->dot(u));
-    best_angle = golden_minimum(score_at, across - step, across + step, 8).first;
-  }
+  double best_angle = about.rules_angle;
   // A plane the search asks for instead, refined by the mirror within a step; a blade only when that is
   // the plane across it.
   if (plane_angle_deg) {
@@ -607,7 +644,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
     }
   }
   const Vec3 z_normal = normal_at(best_angle);
-  frame.symmetry_score = scorer.score(z_normal, centre + offset * z_normal);
+  frame.symmetry_score = about.scorer.score(z_normal, centre + offset * z_normal);
   // Rivals: the sweep's local minima 30 degrees or more from the chosen plane that mirror the head nearly
   // as well. A stick has no head whose plane matters.
   const std::size_t n_sweep = sweep.size();
@@ -621,7 +658,8 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   std::sort(frame.rival_planes.begin(), frame.rival_planes.end(),
             [](const SymmetryCandidate& a, const SymmetryCandidate& b) { return a.score < b.score; });
   frame.diagnostics.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
-  frame.diagnostics.across_handle_score = scorer.score(y_axis, principal.centroid);
+  // The plane across the handle is scored for the record only.
+  frame.diagnostics.across_handle_score = about.scorer.score(y_axis, principal.centroid);
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();
@@ -879,11 +917,13 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   if (!std::all_of(candidates.begin(), candidates.end(), beyond_reach))
     candidates.erase(std::remove_if(candidates.begin(), candidates.end(), beyond_reach), candidates.end());
   std::vector<FrameHypothesis> hypotheses;
+  const MirrorTarget target(p.cloud, config.symmetry_normal_neighbors);
   for (const auto& [source, handle] : candidates) {
-    const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config);
+    const AboutHandle about(p.cloud, p.principal, handle, target, seen, config);
+    const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config);
     std::vector<ToolFrame> frames{as_hypothesis(rules)};
     for (const double angle : alternative_planes_deg(rules))
-      frames.push_back(as_hypothesis(frame_about_handle(p.frame, p.cloud, p.principal, handle, seen, config, angle)));
+      frames.push_back(as_hypothesis(frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config, angle)));
     for (std::size_t plane = 0; plane < frames.size(); ++plane)
       for (const bool reversed : {false, true}) {
         FrameHypothesis h{
@@ -936,8 +976,11 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   }
   const Prepared p = prepare(input, config);
   const FreeSpace free_space(p.cloud, viewpoints);
-  return frame_about_handle(p.frame, p.cloud, p.principal, rule_handle(p.cloud, p.principal, config),
-                            viewpoints.empty() ? nullptr : &free_space, config);
+  const HandleFit handle = rule_handle(p.cloud, p.principal, config);
+  const MirrorTarget target(p.cloud, config.symmetry_normal_neighbors);
+  return frame_about_handle(
+      p.frame, p.cloud, p.principal, handle,
+      AboutHandle(p.cloud, p.principal, handle, target, viewpoints.empty() ? nullptr : &free_space, config), config);
 }
 
 std::string to_string(FrameMethod method) { return method == FrameMethod::search ? "search" : "rules"; }
