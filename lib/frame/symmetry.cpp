@@ -2,17 +2,87 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "toolinc/cloud/preprocessing.hpp"
 
 namespace toolinc {
 
-MirrorTarget::MirrorTarget(const Points& points, int normal_neighbors)
+namespace {
+
+// At most this many cells along the box's longest side: a far stray point does not make the grid huge.
+constexpr double kMaxCellsAlong = 64.0;
+// Cells a shade wider than the tolerance, so that rounding cannot put a point within it two cells away.
+constexpr double kCellMargin = 1e-9;
+
+}  // namespace
+
+MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_neighbors)
     : points_(points),
+      tolerance_(tolerance),
       tree_(points),
       normal_neighbors_(normal_neighbors),
       normals_(normal_neighbors > 0 ? points.size() : 0),
-      normal_known_(normals_.size(), false) {}
+      normal_known_(normals_.size(), false) {
+  if (points.empty()) return;
+  low_ = points[0];
+  Vec3 high = low_;
+  for (const auto& p : points) low_ = low_.cwiseMin(p), high = high.cwiseMax(p);
+  cell_ = std::max({tolerance * (1.0 + kCellMargin), (high - low_).maxCoeff() / kMaxCellsAlong, 1e-9});
+  cells_ = ((high - low_) / cell_).array().floor().cast<int>() + 1;
+  const auto cell_of = [&](const Vec3& p) {
+    const Eigen::Array3i c = ((p - low_) / cell_).array().floor().cast<int>().min(cells_ - 1);
+    return (static_cast<std::size_t>(c.x()) * cells_.y() + c.y()) * cells_.z() + c.z();
+  };
+  // A counting sort by cell, stable: each cell lists its points by ascending index.
+  cell_begin_.assign(static_cast<std::size_t>(cells_.prod()) + 1, 0);
+  for (const auto& p : points) ++cell_begin_[cell_of(p) + 1];
+  for (std::size_t c = 1; c < cell_begin_.size(); ++c) cell_begin_[c] += cell_begin_[c - 1];
+  std::vector<std::uint32_t> next(cell_begin_.begin(), cell_begin_.end() - 1);
+  by_cell_.resize(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) by_cell_[next[cell_of(points[i])]++] = i;
+  cell_points_.reserve(points.size());
+  for (const auto i : by_cell_) cell_points_.push_back(points[i]);
+}
+
+KdTree::Neighbor MirrorTarget::nearest(const Vec3& query) const {
+  KdTree::Neighbor best{KdTree::npos, std::numeric_limits<double>::infinity()};
+  const Eigen::Array3d at = ((query - low_) / cell_).array().floor();
+  if (points_.empty() || !at.allFinite() || (at < -1.0).any() || (at > cells_.cast<double>()).any()) return best;
+  // Per axis, the query's cell and its two neighbours, each with the squared distance from the query to
+  // its side (less a margin for rounding): no point of a cell lies nearer than the sum over the axes.
+  int index[3][3];
+  double gap2[3][3];
+  for (int a = 0; a < 3; ++a) {
+    const auto c = static_cast<int>(at[a]);
+    const double inside = query[a] - (low_[a] + c * cell_), margin = kCellMargin * cell_;
+    const double below = std::max(0.0, inside - margin), above = std::max(0.0, cell_ - inside - margin);
+    index[a][0] = c, index[a][1] = c - 1, index[a][2] = c + 1;
+    gap2[a][0] = 0.0, gap2[a][1] = below * below, gap2[a][2] = above * above;
+  }
+  double bound2 = tolerance_ * tolerance_;
+  for (int i = 0; i < 3; ++i) {
+    const int x = index[0][i];
+    if (x < 0 || x >= cells_.x() || gap2[0][i] > bound2) continue;
+    for (int j = 0; j < 3; ++j) {
+      const int y = index[1][j];
+      if (y < 0 || y >= cells_.y() || gap2[0][i] + gap2[1][j] > bound2) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int z = index[2][k];
+        if (z < 0 || z >= cells_.z() || gap2[0][i] + gap2[1][j] + gap2[2][k] > bound2) continue;
+        const std::size_t cell = (static_cast<std::size_t>(x) * cells_.y() + y) * cells_.z() + z;
+        for (std::uint32_t n = cell_begin_[cell]; n < cell_begin_[cell + 1]; ++n) {
+          const double d2 = (cell_points_[n] - query).squaredNorm();
+          if (d2 <= bound2 && (d2 < best.distance2 || (d2 == best.distance2 && by_cell_[n] < best.index))) {
+            best = {by_cell_[n], d2};
+            bound2 = d2;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
 
 const Vec3& MirrorTarget::normal(std::uint32_t index) const {
   if (!normal_known_[index]) {
@@ -22,9 +92,9 @@ const Vec3& MirrorTarget::normal(std::uint32_t index) const {
   return normals_[index];
 }
 
-SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, double tolerance, double match_weight,
+SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, double match_weight,
                                const FreeSpace* free_space, const std::vector<std::uint32_t>* mirrored)
-    : target_(target), tolerance_(tolerance), match_weight_(match_weight), free_space_(free_space) {
+    : target_(target), match_weight_(match_weight), free_space_(free_space) {
   const std::size_t n = mirrored ? mirrored->size() : target.points().size();
   const std::size_t count = std::min(n, std::max<std::size_t>(samples, 1));
   samples_.reserve(count);
@@ -40,12 +110,12 @@ double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) con
   for (std::uint32_t index : samples_) {
     const Vec3& p = target_.points()[index];
     const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
-    const auto nearest = target_.tree().nearest(mirrored, tolerance_);
+    const auto nearest = target_.nearest(mirrored);
     if (nearest.index != KdTree::npos) {
       double distance = std::sqrt(nearest.distance2);
       if (target_.normal_neighbors() > 0)
         distance = std::abs(target_.normal(nearest.index).dot(mirrored - target_.points()[nearest.index]));
-      sum += match_weight_ * distance / tolerance_;
+      sum += match_weight_ * distance / target_.tolerance();
       ++evidence;
     } else if (free_space_ == nullptr || free_space_->seen(mirrored)) {
       sum += 1.0;

@@ -12,38 +12,50 @@
 
 namespace toolinc {
 
-// The cloud mirror images are matched against: its tree and, when first needed, its points' tangent-plane
-// normals (from normal_neighbors nearest points; 0: none). Every scorer over the same cloud can share one,
-// whatever it mirrors, so the tree is built and each normal computed once. Not thread-safe (it caches
-// normals); points must outlive it.
+// The cloud mirror images are matched against: the nearest point within tolerance of an image, and its
+// tangent-plane normal (from normal_neighbors nearest points; 0: none) computed when first needed. Every
+// scorer over the same cloud can share one, whatever it mirrors, so each normal is computed once. Not
+// thread-safe (it caches normals); points must outlive it.
 class MirrorTarget {
  public:
-  explicit MirrorTarget(const Points& points, int normal_neighbors = 0);
+  MirrorTarget(const Points& points, double tolerance, int normal_neighbors = 0);
 
   const Points& points() const { return points_; }
-  const KdTree& tree() const { return tree_; }
+  double tolerance() const { return tolerance_; }
   int normal_neighbors() const { return normal_neighbors_; }
+  // The nearest point within tolerance (ties to the lowest index), as KdTree::nearest finds it.
+  KdTree::Neighbor nearest(const Vec3& query) const;
   const Vec3& normal(std::uint32_t index) const;
 
  private:
   const Points& points_;
-  KdTree tree_;
+  double tolerance_;
+  KdTree tree_;  // for the normals' neighbours
   int normal_neighbors_;
   mutable Points normals_;  // per point, valid where normal_known_
   mutable std::vector<bool> normal_known_;
+  // Cells of at least the tolerance's size over the points' box: a point within tolerance of an image
+  // lies in the image's cell or one of the 26 around it. Scanning those (the farther ones only while
+  // they can hold a nearer point) is cheaper than a kd-tree's descent and backtracking.
+  Vec3 low_ = Vec3::Zero();
+  double cell_ = 1.0;
+  Eigen::Array3i cells_ = Eigen::Array3i::Zero();  // along x, y, z
+  std::vector<std::uint32_t> cell_begin_;          // per cell, its first entry in by_cell_; one more at the end
+  std::vector<std::uint32_t> by_cell_;             // the points' indices, cell after cell
+  Points cell_points_;                             // the points in by_cell_'s order, side by side in memory
 };
 
 class SymmetryScorer {
  public:
   // target: the resampled cloud (which must outlive the scorer); the scorer mirrors an evenly spaced subset
   // of at most `samples` of its points, drawn from `mirrored` (indices into them) when given, else from
-  // every point. tolerance: mirror images this far or farther from the cloud are off it. match_weight: what
-  // a matched image's distance / tolerance weighs against a contradicted image (1). free_space (optional,
+  // every point. Mirror images farther than the target's tolerance from the cloud are off it. match_weight:
+  // what a matched image's distance / tolerance weighs against a contradicted image (1). free_space (optional,
   // must outlive the scorer): an image off the cloud is a contradiction only where a sensor saw empty
   // space, and no evidence where no sensor could have seen it; without it every image off the cloud
   // contradicts. With the target's normals, a matched image's distance is to the nearest point's tangent
   // plane, which unlike the distance to the nearest point does not depend on how the surface was sampled.
-  SymmetryScorer(const MirrorTarget& target, std::size_t samples, double tolerance, double match_weight = 1.0,
+  SymmetryScorer(const MirrorTarget& target, std::size_t samples, double match_weight = 1.0,
                  const FreeSpace* free_space = nullptr, const std::vector<std::uint32_t>* mirrored = nullptr);
 
   // Over the mirror images that are evidence (matched, or off the cloud where a sensor could have seen
@@ -54,7 +66,6 @@ class SymmetryScorer {
  private:
   const MirrorTarget& target_;
   std::vector<std::uint32_t> samples_;
-  double tolerance_;
   double match_weight_;
   const FreeSpace* free_space_;
 };

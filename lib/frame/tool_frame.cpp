@@ -503,7 +503,14 @@ struct AboutHandle {
               const FreeSpace* free_space, const ToolFrameConfig& config);
 
   Vec3 normal_at(double angle) const { return std::cos(angle) * u + std::sin(angle) * v; }
-  double score_at(double angle) const { return scorer.score(normal_at(angle), centre); }
+  // The mirror score of the plane through the handle's axis at angle; each angle is scored once, since
+  // the planes the search asks for and the chosen planes were often scored by a refinement already.
+  double score_at(double angle) const {
+    const auto known = std::find_if(scored.begin(), scored.end(), [&](const auto& s) { return s.first == angle; });
+    if (known != scored.end()) return known->second;
+    scored.emplace_back(angle, scorer.score(normal_at(angle), centre));
+    return scored.back().second;
+  }
 
   Vec3 y_axis, u, v;
   // The symmetry plane contains the handle's axis line, not only its direction: the handle's fitted
@@ -515,8 +522,10 @@ struct AboutHandle {
   SymmetryScorer scorer;
   double step;  // the sweep's, rad
   std::vector<SymmetryCandidate> sweep, tied_planes;
-  std::optional<Vec3> blade;  // across the head, when it is a blade
-  double rules_angle = 0.0;   // the rules' plane, before a bar along it moves it
+  std::optional<Vec3> blade;                              // across the head, when it is a blade
+  double rules_angle = 0.0;                               // the rules' plane, before a bar along it moves it
+  double across_handle_score;                             // of the plane across the handle, for the record only
+  mutable std::vector<std::pair<double, double>> scored;  // angle, score
 };
 
 // Symmetry plane: it contains the handle axis, so sweep its normal about Y and refine the best angles.
@@ -539,9 +548,8 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
       }()),
       // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
       head_extent(effector_extent(cloud, principal.centroid, line, config.salience_quantile)),
-      scorer(target, static_cast<std::size_t>(std::max(1, config.symmetry_samples)), config.symmetry_tolerance,
-             config.symmetry_match_weight, free_space,
-             static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr),
+      scorer(target, static_cast<std::size_t>(std::max(1, config.symmetry_samples)), config.symmetry_match_weight,
+             free_space, static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr),
       step(config.symmetry_step_deg * kDeg) {
   if (u.norm() < 1e-6) u = principal.axes.col(2) - principal.axes.col(2).dot(y_axis) * y_axis;
   u.normalize();
@@ -577,6 +585,7 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
     const double across = std::atan2(blade->dot(v), blade->dot(u));
     rules_angle = golden_minimum([&](double a) { return score_at(a); }, across - step, across + step, 8).first;
   }
+  across_handle_score = scorer.score(y_axis, principal.centroid);
 }
 
 // The frame about a given handle: the symmetry plane through it, the effector axis and its side, the
@@ -644,7 +653,8 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
     }
   }
   const Vec3 z_normal = normal_at(best_angle);
-  frame.symmetry_score = about.scorer.score(z_normal, centre + offset * z_normal);
+  frame.symmetry_score =
+      offset == 0.0 ? about.score_at(best_angle) : about.scorer.score(z_normal, centre + offset * z_normal);
   // Rivals: the sweep's local minima 30 degrees or more from the chosen plane that mirror the head nearly
   // as well. A stick has no head whose plane matters.
   const std::size_t n_sweep = sweep.size();
@@ -658,8 +668,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   std::sort(frame.rival_planes.begin(), frame.rival_planes.end(),
             [](const SymmetryCandidate& a, const SymmetryCandidate& b) { return a.score < b.score; });
   frame.diagnostics.symmetry_candidates.push_back({best_angle / kDeg, z_normal, frame.symmetry_score});
-  // The plane across the handle is scored for the record only.
-  frame.diagnostics.across_handle_score = about.scorer.score(y_axis, principal.centroid);
+  frame.diagnostics.across_handle_score = about.across_handle_score;
 
   // Effector axis X = Y x Z, signed towards the side where the effector reaches farther.
   Vec3 x_axis = y_axis.cross(z_normal).normalized();
@@ -917,7 +926,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   if (!std::all_of(candidates.begin(), candidates.end(), beyond_reach))
     candidates.erase(std::remove_if(candidates.begin(), candidates.end(), beyond_reach), candidates.end());
   std::vector<FrameHypothesis> hypotheses;
-  const MirrorTarget target(p.cloud, config.symmetry_normal_neighbors);
+  const MirrorTarget target(p.cloud, config.symmetry_tolerance, config.symmetry_normal_neighbors);
   for (const auto& [source, handle] : candidates) {
     const AboutHandle about(p.cloud, p.principal, handle, target, seen, config);
     const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config);
@@ -977,7 +986,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   const Prepared p = prepare(input, config);
   const FreeSpace free_space(p.cloud, viewpoints);
   const HandleFit handle = rule_handle(p.cloud, p.principal, config);
-  const MirrorTarget target(p.cloud, config.symmetry_normal_neighbors);
+  const MirrorTarget target(p.cloud, config.symmetry_tolerance, config.symmetry_normal_neighbors);
   return frame_about_handle(
       p.frame, p.cloud, p.principal, handle,
       AboutHandle(p.cloud, p.principal, handle, target, viewpoints.empty() ? nullptr : &free_space, config), config);

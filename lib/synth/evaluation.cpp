@@ -172,8 +172,8 @@ ToolSymmetry measure_symmetry(const Points& canonical) {
   // The same score as the frame's symmetry test, on the same resampling; mirror planes of the
   // generated tools score about 0.2 noise-free at this scale, others 0.35 and more.
   const Points cloud = voxel_downsample(canonical, 0.004);
-  const MirrorTarget target(cloud);
-  const SymmetryScorer scorer(target, 1000, 0.01);  // no free space: every image off the cloud contradicts
+  const MirrorTarget target(cloud, 0.01);
+  const SymmetryScorer scorer(target, 1000);  // no free space: every image off the cloud contradicts
   Vec3 centre = Vec3::Zero();
   for (const auto& p : cloud) centre += p;
   centre /= static_cast<double>(std::max<std::size_t>(cloud.size(), 1));

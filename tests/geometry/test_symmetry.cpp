@@ -24,8 +24,8 @@ const Vec3 kAcross = Vec3::UnitX(), kFlat = Vec3::UnitZ();
 
 TEST(SymmetryScorer, AWholeTMirrorsAboutBothOfItsPlanes) {
   const Points t = flat_t(true);
-  const MirrorTarget target(t);
-  const SymmetryScorer scorer(target, 500, kTolerance);
+  const MirrorTarget target(t, kTolerance);
+  const SymmetryScorer scorer(target, 500);
   EXPECT_LT(scorer.score(kAcross, Vec3::Zero()), 0.05);  // the bar's halves onto each other
   EXPECT_LT(scorer.score(kFlat, Vec3::Zero()), 0.05);    // a flat shape onto itself
   // Planes that keep the handle but not the bar: every bar point's image lands off the cloud (a third of
@@ -38,20 +38,20 @@ TEST(SymmetryScorer, AWholeTMirrorsAboutBothOfItsPlanes) {
 
 TEST(SymmetryScorer, AMissingHalfContradictsOnlyWhereASensorSawEmptySpace) {
   const Points half_t = flat_t(false);
-  const MirrorTarget target(half_t);
+  const MirrorTarget target(half_t, kTolerance);
   // Without a free-space model every image off the cloud contradicts the plane across the bar: the bar's
   // 25 points of 126.
-  const double blind = SymmetryScorer(target, 500, kTolerance).score(kAcross, Vec3::Zero());
+  const double blind = SymmetryScorer(target, 500).score(kAcross, Vec3::Zero());
   EXPECT_NEAR(blind, 25.0 / 126.0, 0.03);
   // Seen from above, the missing half was in view and empty: the same contradiction.
   const FreeSpace from_above(half_t, {Vec3(0.0, -0.1, 0.5)});
   EXPECT_TRUE(from_above.seen(Vec3(-0.03, -0.2, 0.0)));
-  EXPECT_NEAR(SymmetryScorer(target, 500, kTolerance, 1.0, &from_above).score(kAcross, Vec3::Zero()), blind, 0.05);
+  EXPECT_NEAR(SymmetryScorer(target, 500, 1.0, &from_above).score(kAcross, Vec3::Zero()), blind, 0.05);
   // Seen only edge-on from the bar's right end, the missing half lies behind the seen half: its images
   // are no evidence, and what is left (the handle, the seen half's images near the handle) matches.
   const FreeSpace edge_on(half_t, {Vec3(0.5, -0.2, 0.0)});
   EXPECT_FALSE(edge_on.seen(Vec3(-0.03, -0.2, 0.0)));
-  EXPECT_LT(SymmetryScorer(target, 500, kTolerance, 1.0, &edge_on).score(kAcross, Vec3::Zero()), 0.03);
+  EXPECT_LT(SymmetryScorer(target, 500, 1.0, &edge_on).score(kAcross, Vec3::Zero()), 0.03);
 }
 
 }  // namespace
