@@ -2,12 +2,12 @@
 // [--calibration-grasps N] [--stereo M] [-j J] -o SCORE.json: fits the frame search's score (frame_search.hpp)
 // on simulated sessions of the generated families. Every frame hypothesis on each session's merged model is
 // labelled right when its tooltip lies within --tip-tolerance of the truth carried by the true model aligned
-// onto the merge, and a choice model of the hypotheses' features is fitted so that each session's right ones
-// are the likely ones. On sessions of other seeds, never fitted on, the chosen hypotheses' probabilities
-// are compared with how often their tooltips were right (the calibration table), and the probability from
-// which 98 % of chosen tooltips lie within 15 mm becomes the confidence threshold. The real tools, the CAD
-// models and the robot's reconstructions are never fitted on: they are the exam. The output is
-// configs/frame-score.json's contents.
+// onto the merge and, on a tool with a salient effector, its effector points the true way; a choice model of the
+// hypotheses' features is fitted so that each session's right ones are the likely ones. On sessions of other seeds,
+// never fitted on, the chosen hypotheses' probabilities are compared with how often their tooltips were right (the
+// calibration table), and the probability from which 98 % of chosen tooltips lie within 15 mm becomes the confidence
+// threshold. The real tools, the CAD models and the robot's reconstructions are never fitted on: they are the exam. The
+// output is configs/frame-score.json's contents.
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
@@ -22,12 +22,19 @@
 #include "toolinc/core/choice_model.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/statistics.hpp"
+#include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/synth/evaluation.hpp"
 
 namespace {
 
 using Hypotheses = std::vector<toolinc::LabelledHypothesis>;
+
+// A hypothesis is right when its tooltip lies within `tolerance` of the truth and its effector points the
+// true way (on a tool with a salient effector; a scoop's tip alone does not tell its side).
+bool is_right(const toolinc::LabelledHypothesis& h, double tolerance) {
+  return h.tooltip_m <= tolerance && h.effector_right;
+}
 
 // The hypothesis a model chooses on one session, and its tooltip's probability among that session's.
 struct Choice {
@@ -51,13 +58,13 @@ double mean_log_likelihood(const toolinc::FrameScoreModel& model, const std::vec
   for (const auto& hypotheses : sessions) {
     std::vector<double> scores;
     int right = 0;
-    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += h.tooltip_m <= tolerance;
+    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += is_right(h, tolerance);
     if (right == 0 || right == static_cast<int>(hypotheses.size())) continue;
     const double top = *std::max_element(scores.begin(), scores.end());
     double total = 0.0;
     for (const double z : scores) total += std::exp(z - top);
     for (std::size_t i = 0; i < hypotheses.size(); ++i)
-      if (hypotheses[i].tooltip_m <= tolerance) sum += (scores[i] - top - std::log(total)) / right;
+      if (is_right(hypotheses[i], tolerance)) sum += (scores[i] - top - std::log(total)) / right;
     ++counted;
   }
   return sum / std::max(counted, 1);
@@ -88,7 +95,7 @@ int main(int argc, char** argv) {
   double tip_tolerance = 0.010, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
-  std::string rule, stereo = "elas", compare;
+  std::string rule, stereo = "elas", compare, hypotheses_csv;
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
   cli.add_option("--first-seed", first_seed,
@@ -125,6 +132,9 @@ int main(int argc, char** argv) {
   cli.add_option("--compare", compare,
                  "A score JSON (configs/frame-score.json) whose mean log-likelihood on the same hypotheses is "
                  "reported beside the fit's (compared.mean_log_likelihood)");
+  cli.add_option("--hypotheses", hypotheses_csv,
+                 "CSV of every labelled hypothesis (set, family, seed, handle, side reversed, tooltip error, "
+                 "features), to study the features");
   command.add_output("The fitted score JSON (- for stdout)");
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
@@ -164,6 +174,20 @@ int main(int argc, char** argv) {
       session.stereo = toolinc::stereo_model_from_string(stereo);
       labelled[i] = toolinc::labelled_frame_hypotheses(session, pipeline);
     });
+    if (!hypotheses_csv.empty()) {
+      std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right";
+      for (const char* name : toolinc::frame_feature_names()) csv += std::string(",") + name;
+      csv += "\n";
+      for (std::size_t i = 0; i < cases.size(); ++i)
+        for (const auto& h : labelled[i]) {
+          csv += fmt::format("{},{},{},\"{}\",{},{},{}", i < fitted ? "fit" : "calibration",
+                             toolinc::to_string(cases[i].family), cases[i].seed, h.handle_source, int{h.side_reversed},
+                             h.tooltip_m, int{h.effector_right});
+          for (const double f : h.features) csv += fmt::format(",{}", f);
+          csv += "\n";
+        }
+      toolinc::write_file_atomic(hypotheses_csv, [&](std::ostream& out) { out << csv; });
+    }
     const std::vector<Hypotheses> fit_on(labelled.begin(), labelled.begin() + static_cast<std::ptrdiff_t>(fitted)),
         calibrate_on(labelled.begin() + static_cast<std::ptrdiff_t>(fitted), labelled.end());
 
@@ -172,7 +196,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < fit_on.size(); ++i)
       for (const auto& h : fit_on[i]) {
         rows.push_back(h.features);
-        labels.push_back(h.tooltip_m <= tip_tolerance);
+        labels.push_back(is_right(h, tip_tolerance));
         groups.push_back(static_cast<int>(i));
       }
     if (rows.empty()) throw toolinc::MethodError("no session gave a hypothesis to fit on");
@@ -190,9 +214,9 @@ int main(int argc, char** argv) {
       if (hypotheses.empty()) continue;
       const Choice c = choose(model, hypotheses, pipeline.tooltip.ambiguity_distance);
       chosen.emplace_back(c.probability, c.chosen->tooltip_m <= confident_tolerance);
-      chosen_right += c.chosen->tooltip_m <= tip_tolerance;
-      any_right += std::any_of(hypotheses.begin(), hypotheses.end(),
-                               [&](const auto& h) { return h.tooltip_m <= tip_tolerance; });
+      chosen_right += is_right(*c.chosen, tip_tolerance);
+      any_right +=
+          std::any_of(hypotheses.begin(), hypotheses.end(), [&](const auto& h) { return is_right(h, tip_tolerance); });
     }
     model.confident_probability = confident_probability(chosen, precision);
     toolinc::Json calibration = toolinc::Json::array();
@@ -237,6 +261,9 @@ int main(int argc, char** argv) {
                                              {"grasps", grasps},
                                              {"stereo", stereo},
                                              {"tip_tolerance_m", tip_tolerance},
+                                             {"right",
+                                              "tooltip within tip_tolerance_m and, where the effector is "
+                                              "salient, the effector the true way"},
                                              {"ridge", ridge}}},
                                            {"calibrated_on",
                                             {{"first_seed", calibration_first_seed},

@@ -194,21 +194,37 @@ void parse_options(Command& command, const py::object& config, const py::kwargs&
   }
 }
 
-// A tool_frame dict (as estimate_tool_frame returns it; its type, version and matrix are read) or file.
-ToolFrame frame_from_python(const py::handle& frame) {
-  if (py::isinstance<Result>(frame)) return frame_from_python(frame.cast<const Result&>().to_dict());
-  if (!py::isinstance<py::dict>(frame)) return read_tool_frame(py::str(frame).cast<std::string>());
-  const auto dict = py::reinterpret_borrow<py::dict>(frame);
-  Json json = Json::object();
-  if (dict.contains("type")) json["type"] = py::str(dict["type"]).cast<std::string>();
-  if (dict.contains("version")) json["version"] = dict["version"].cast<int>();
-  if (dict.contains("matrix")) {
-    const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(dict["matrix"]);
-    if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw InputError("frame", "matrix: expected 4x4");
-    const auto a = m.unchecked<2>();
-    for (py::ssize_t r = 0; r < 4; ++r) json["matrix"].push_back({a(r, 0), a(r, 1), a(r, 2), a(r, 3)});
+// ---- Python -> JSON: a result's dict back as its JSON (numpy arrays as nested lists) ----
+
+Json from_python(const py::handle& o, const std::string& where) {
+  if (o.is_none()) return nullptr;
+  if (py::isinstance<py::bool_>(o)) return o.cast<bool>();
+  if (py::isinstance<py::int_>(o)) return o.cast<long long>();
+  if (py::isinstance<py::float_>(o)) return o.cast<double>();
+  if (py::isinstance<py::str>(o)) return o.cast<std::string>();
+  if (py::isinstance<py::array>(o)) return from_python(o.attr("tolist")(), where);
+  if (py::isinstance<Result>(o)) return from_python(o.cast<const Result&>().to_dict(), where);
+  if (py::isinstance<py::dict>(o)) {
+    Json json = Json::object();
+    for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(o))
+      json[py::str(key).cast<std::string>()] = from_python(value, where + "." + py::str(key).cast<std::string>());
+    return json;
   }
-  return tool_frame_from_json(json, "frame");
+  if (py::isinstance<py::list>(o) || py::isinstance<py::tuple>(o)) {
+    Json json = Json::array();
+    for (const auto& e : o) json.push_back(from_python(e, where));
+    return json;
+  }
+  if (py::hasattr(o, "__float__")) return o.cast<double>();  // numpy scalars
+  throw InputError("", where + ": not a JSON value (" + py::str(py::type::of(o)).cast<std::string>() + ")");
+}
+
+// A tool_frame (as estimate_tool_frame returns it, or its dict: read as estimate-frame's JSON file is, the
+// search's hypotheses and confidence included) or a file.
+ToolFrame frame_from_python(const py::handle& frame) {
+  if (!py::isinstance<Result>(frame) && !py::isinstance<py::dict>(frame))
+    return read_tool_frame(py::str(frame).cast<std::string>());
+  return tool_frame_from_json(from_python(frame, "frame"), "frame");
 }
 
 // ---- the functions ----

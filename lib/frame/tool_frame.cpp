@@ -588,6 +588,21 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   across_handle_score = scorer.score(y_axis, principal.centroid);
 }
 
+// The grasp's doubts, whatever the plane and side: a handle whose axis does not pass by the hand is not
+// the one it holds, and one thicker than the hand closes on is not held. The search's probabilities are
+// relative to its other hypotheses and cannot see that none is a grasp.
+void check_grasp(ToolFrame& frame, const ToolFrameConfig& config) {
+  frame.confidence.check(
+      1.0 - frame.diagnostics.hand_to_handle / config.grasp_reach,
+      fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
+                  "it is not what the hand holds",
+                  1000 * frame.diagnostics.hand_to_handle, 1000 * config.grasp_reach));
+  frame.confidence.check(1.0 - frame.handle_radius / config.grasp_max_radius,
+                         fmt::format("the handle's fitted radius is {:.0f} mm, beyond grasp-max-radius ({:.0f} mm): "
+                                     "thicker than the hand holds",
+                                     1000 * frame.handle_radius, 1000 * config.grasp_max_radius));
+}
+
 // The frame about a given handle: the symmetry plane through it, the effector axis and its side, the
 // head's kind and the doubts. `frame` holds what preparing the cloud found; about, what the handle alone
 // decides.
@@ -745,18 +760,10 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
     else if (thin_along_x)
       frame.head_kind = HeadKind::plate;
   }
-  // Doubts: a handle that does not pass by the hand is not the one it holds; an effector whose two
-  // sides reach differently, but not by enough to be salient, may have its side reversed (a tool whose
-  // sides reach alike within salience-min is symmetric: either side is right).
-  frame.confidence.check(
-      1.0 - frame.diagnostics.hand_to_handle / config.grasp_reach,
-      fmt::format("the handle's axis passes {:.0f} mm from the hand, beyond grasp-reach ({:.0f} mm): "
-                  "it is not what the hand holds",
-                  1000 * frame.diagnostics.hand_to_handle, 1000 * config.grasp_reach));
-  frame.confidence.check(1.0 - frame.handle_radius / config.grasp_max_radius,
-                         fmt::format("the handle's fitted radius is {:.0f} mm, beyond grasp-max-radius ({:.0f} mm): "
-                                     "thicker than the hand holds",
-                                     1000 * frame.handle_radius, 1000 * config.grasp_max_radius));
+  // Doubts: the grasp's; an effector whose two sides reach differently, but not by enough to be salient,
+  // may have its side reversed (a tool whose sides reach alike within salience-min is symmetric: either
+  // side is right).
+  check_grasp(frame, config);
   const double reach_difference = frame.diagnostics.effector_reach_positive - frame.diagnostics.effector_reach_negative;
   if (!frame.stick && !curled && !frame.diagnostics.salient_effector &&
       std::abs(reach_difference) >= config.salience_min)
@@ -797,12 +804,13 @@ Prepared prepare(const Points& input, const ToolFrameConfig& config) {
 
 // A frame as one hypothesis of the search: one plane and one side. The rules' tied and rival planes and
 // their doubt of the side are other hypotheses there, weighed by the search, not alternatives of this one
-// (nor does find-tooltip spend time on them); its confidence is the search's to set.
-ToolFrame as_hypothesis(ToolFrame frame) {
+// (nor does find-tooltip spend time on them); of its doubts only the grasp's stay, the search adds its own.
+ToolFrame as_hypothesis(ToolFrame frame, const ToolFrameConfig& config) {
   frame.tied_planes = {frame.diagnostics.symmetry_candidates.back()};
   frame.rival_planes.clear();
   frame.effector_side_clear = true;
   frame.confidence = Confidence{};
+  check_grasp(frame, config);
   return frame;
 }
 
@@ -930,9 +938,10 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   for (const auto& [source, handle] : candidates) {
     const AboutHandle about(p.cloud, p.principal, handle, target, seen, config);
     const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config);
-    std::vector<ToolFrame> frames{as_hypothesis(rules)};
+    std::vector<ToolFrame> frames{as_hypothesis(rules, config)};
     for (const double angle : alternative_planes_deg(rules))
-      frames.push_back(as_hypothesis(frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config, angle)));
+      frames.push_back(
+          as_hypothesis(frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config, angle), config));
     for (std::size_t plane = 0; plane < frames.size(); ++plane)
       for (const bool reversed : {false, true}) {
         FrameHypothesis h{

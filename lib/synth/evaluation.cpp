@@ -137,7 +137,9 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
         error = tooltip_error(m.relative, find_tooltip(m.merged.model.points, h.frame, pipeline.tooltip).position);
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
-      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error});
+      const bool effector_right =
+          tool_symmetry(config) != ToolSymmetry::mirror || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
+      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error, effector_right});
     }
   } catch (const MethodError&) {  // a degenerate merged model: nothing to learn from
     labelled.clear();

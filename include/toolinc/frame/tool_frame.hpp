@@ -21,7 +21,7 @@ std::string to_string(FrameMethod method);
 FrameMethod frame_method_from_string(const std::string& name);  // throws std::invalid_argument
 
 struct ToolFrameConfig {
-  FrameMethod method = FrameMethod::rules;
+  FrameMethod method = FrameMethod::search;
   double hand_radius = 0.06;          // m: points this close to the hand origin belong to the hand
   double voxel_size = 0.004;          // m: resampling that makes every statistic density-independent
   double isolated_radius = 0.01;      // m: resampled points with fewer than isolated_min_neighbors ...

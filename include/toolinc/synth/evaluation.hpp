@@ -71,13 +71,17 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& session, 
 
 // Every frame hypothesis (frame_search.hpp) on a simulated session's merged model, with its tooltip's
 // error against the truth carried by the true model aligned onto that model (infinite where the
-// hypothesis has no tip): the search's training data. Empty when the session does not merge.
+// hypothesis has no tip) and whether its effector points the true way: the search's training data. Empty
+// when the session does not merge.
 struct LabelledHypothesis {
   std::array<double, kFrameFeatures> features;
   std::string handle_source;
   bool side_reversed = false;
   std::optional<Vec3> tooltip;  // hand frame
   double tooltip_m = 0.0;
+  // The effector along the true +X, or the tool has no salient effector (a stick, a T): a scoop's tip is
+  // its far end whichever side the frame takes, so the tip alone does not tell its working side.
+  bool effector_right = true;
 };
 std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulatorConfig& session,
                                                           const PipelineConfig& pipeline = {});
