@@ -2,7 +2,8 @@
 // [--calibration-grasps N] [--stereo M] [-j J] -o SCORE.json: fits the frame search's score (frame_search.hpp)
 // on simulated sessions of the generated families. Every frame hypothesis on each session's merged model is
 // labelled right when its tooltip lies within --tip-tolerance of the truth carried by the true model aligned
-// onto the merge and, on a tool with a salient effector, its effector points the true way; a choice model of the
+// onto the merge, on a tool with a salient effector its effector points the true way, and its handle lies
+// within --handle-tolerance of the true one; a choice model of the
 // hypotheses' features is fitted so that each session's right ones are the likely ones. On sessions of other seeds,
 // never fitted on, the chosen hypotheses' probabilities are compared with how often their tooltips were right (the
 // calibration table), and the probability from which 98 % of chosen tooltips lie within 15 mm becomes the confidence
@@ -30,11 +31,15 @@ namespace {
 
 using Hypotheses = std::vector<toolinc::LabelledHypothesis>;
 
-// A hypothesis is right when its tooltip lies within `tolerance` of the truth and its effector points the
-// true way (on a tool with a salient effector; a scoop's tip alone does not tell its side).
-bool is_right(const toolinc::LabelledHypothesis& h, double tolerance) {
-  return h.tooltip_m <= tolerance && h.effector_right;
-}
+// A hypothesis is right when its tooltip lies within `tolerance` of the truth, its effector points the
+// true way (on a tool with a salient effector; a scoop's tip alone does not tell its side) and its handle
+// lies within `handle_deg` of the true one (a stick's tip does not tell it either).
+struct Rightness {
+  double tip_m, handle_deg;
+  bool operator()(const toolinc::LabelledHypothesis& h) const {
+    return h.tooltip_m <= tip_m && h.effector_right && h.handle_deg <= handle_deg;
+  }
+};
 
 // The hypothesis a model chooses on one session, and its tooltip's probability among that session's.
 struct Choice {
@@ -52,19 +57,19 @@ Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypothese
 // Mean log-probability the model gives a session's right hypotheses (shared equally among them), over the
 // sessions with right and wrong ones: how well it explains the labels.
 double mean_log_likelihood(const toolinc::FrameScoreModel& model, const std::vector<Hypotheses>& sessions,
-                           double tolerance) {
+                           const Rightness& is_right) {
   double sum = 0.0;
   int counted = 0;
   for (const auto& hypotheses : sessions) {
     std::vector<double> scores;
     int right = 0;
-    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += is_right(h, tolerance);
+    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += is_right(h);
     if (right == 0 || right == static_cast<int>(hypotheses.size())) continue;
     const double top = *std::max_element(scores.begin(), scores.end());
     double total = 0.0;
     for (const double z : scores) total += std::exp(z - top);
     for (std::size_t i = 0; i < hypotheses.size(); ++i)
-      if (is_right(hypotheses[i], tolerance)) sum += (scores[i] - top - std::log(total)) / right;
+      if (is_right(hypotheses[i])) sum += (scores[i] - top - std::log(total)) / right;
     ++counted;
   }
   return sum / std::max(counted, 1);
@@ -92,7 +97,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> family_names;
   std::uint32_t first_seed = 1000, calibration_first_seed = 2000;
   int grasps = 16, calibration_grasps = 8;
-  double tip_tolerance = 0.010, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
+  double tip_tolerance = 0.010, handle_tolerance = 180.0, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
+  bool belly_behind = false;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "elas", compare, hypotheses_csv;
@@ -113,6 +119,13 @@ int main(int argc, char** argv) {
   cli.add_option("--tip-tolerance", tip_tolerance, "m: a hypothesis whose tooltip lies this close is right")
       ->capture_default_str()
       ->check(toolinc::in_range({0.001, false, 0.1, "m"}));
+  cli.add_option("--handle-tolerance", handle_tolerance,
+                 "deg: ... and whose handle axis lies this close (180: the handle is not asked)")
+      ->capture_default_str()
+      ->check(toolinc::in_range({0.1, false, 180.0, "deg"}));
+  cli.add_flag("--belly-behind", belly_behind,
+               "Every other shovel session's scoop lowered behind the handle's axis (belly_behind), as many real "
+               "scoops are held");
   cli.add_option("--confident-tolerance", confident_tolerance,
                  "m: a confident tooltip must lie this close to the truth ...")
       ->capture_default_str()
@@ -161,6 +174,7 @@ int main(int argc, char** argv) {
       toolinc::ToolFamily family;
       std::uint32_t seed;
     };
+    const Rightness is_right{tip_tolerance, handle_tolerance};
     std::vector<Case> cases;
     for (const auto family : families)
       for (int g = 0; g < grasps; ++g) cases.push_back({family, first_seed + static_cast<std::uint32_t>(g)});
@@ -171,18 +185,23 @@ int main(int argc, char** argv) {
     std::vector<Hypotheses> labelled(cases.size());
     toolinc::run_in_parallel(cases.size(), jobs, toolinc::Progress("labelling frame hypotheses"), [&](std::size_t i) {
       toolinc::SessionSimulatorConfig session = toolinc::family_session(cases[i].family, cases[i].seed);
+      // Real scoops are held with their belly on either side of the handle's axis: with --belly-behind
+      // every other shovel's is behind it, so that the fit sees the head's curl, not its reach, tell a
+      // scoop's side.
+      if (belly_behind && cases[i].family == toolinc::ToolFamily::shovel && cases[i].seed % 2 == 1)
+        session.shape = toolinc::belly_behind(session.shape);
       session.stereo = toolinc::stereo_model_from_string(stereo);
       labelled[i] = toolinc::labelled_frame_hypotheses(session, pipeline);
     });
     if (!hypotheses_csv.empty()) {
-      std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right";
+      std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right,handle_deg";
       for (const char* name : toolinc::frame_feature_names()) csv += std::string(",") + name;
       csv += "\n";
       for (std::size_t i = 0; i < cases.size(); ++i)
         for (const auto& h : labelled[i]) {
-          csv += fmt::format("{},{},{},\"{}\",{},{},{}", i < fitted ? "fit" : "calibration",
+          csv += fmt::format("{},{},{},\"{}\",{},{},{},{}", i < fitted ? "fit" : "calibration",
                              toolinc::to_string(cases[i].family), cases[i].seed, h.handle_source, int{h.side_reversed},
-                             h.tooltip_m, int{h.effector_right});
+                             h.tooltip_m, int{h.effector_right}, h.handle_deg);
           for (const double f : h.features) csv += fmt::format(",{}", f);
           csv += "\n";
         }
@@ -196,7 +215,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < fit_on.size(); ++i)
       for (const auto& h : fit_on[i]) {
         rows.push_back(h.features);
-        labels.push_back(is_right(h, tip_tolerance));
+        labels.push_back(is_right(h));
         groups.push_back(static_cast<int>(i));
       }
     if (rows.empty()) throw toolinc::MethodError("no session gave a hypothesis to fit on");
@@ -214,9 +233,8 @@ int main(int argc, char** argv) {
       if (hypotheses.empty()) continue;
       const Choice c = choose(model, hypotheses, pipeline.tooltip.ambiguity_distance);
       chosen.emplace_back(c.probability, c.chosen->tooltip_m <= confident_tolerance);
-      chosen_right += is_right(*c.chosen, tip_tolerance);
-      any_right +=
-          std::any_of(hypotheses.begin(), hypotheses.end(), [&](const auto& h) { return is_right(h, tip_tolerance); });
+      chosen_right += is_right(*c.chosen);
+      any_right += std::any_of(hypotheses.begin(), hypotheses.end(), [&](const auto& h) { return is_right(h); });
     }
     model.confident_probability = confident_probability(chosen, precision);
     toolinc::Json calibration = toolinc::Json::array();
@@ -251,8 +269,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> names;
     for (const auto family : families) names.push_back(toolinc::to_string(family));
     toolinc::Json compared;
-    if (other)
-      compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(*other, fit_on, tip_tolerance)}};
+    if (other) compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(*other, fit_on, is_right)}};
     toolinc::write_json(command.output(), {{"type", "frame_score"},
                                            {"version", 2},
                                            {"fitted_on",
@@ -261,9 +278,11 @@ int main(int argc, char** argv) {
                                              {"grasps", grasps},
                                              {"stereo", stereo},
                                              {"tip_tolerance_m", tip_tolerance},
+                                             {"handle_tolerance_deg", handle_tolerance},
+                                             {"belly_behind", belly_behind},
                                              {"right",
-                                              "tooltip within tip_tolerance_m and, where the effector is "
-                                              "salient, the effector the true way"},
+                                              "tooltip within tip_tolerance_m, where the effector is salient the "
+                                              "effector the true way, and the handle within handle_tolerance_deg"},
                                              {"ridge", ridge}}},
                                            {"calibrated_on",
                                             {{"first_seed", calibration_first_seed},
@@ -282,7 +301,7 @@ int main(int argc, char** argv) {
                                              {"confident", confident},
                                              {"confident_within_tolerance", confident_right},
                                              {"table", calibration}}},
-                                           {"mean_log_likelihood", mean_log_likelihood(model, fit_on, tip_tolerance)},
+                                           {"mean_log_likelihood", mean_log_likelihood(model, fit_on, is_right)},
                                            {"compared", compared}});
   });
 }

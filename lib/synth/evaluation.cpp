@@ -139,7 +139,8 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
       }
       const bool effector_right =
           tool_symmetry(config) != ToolSymmetry::mirror || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
-      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error, effector_right});
+      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error, effector_right,
+                          handle_axis_error_deg(m.relative, h.frame.handle_axis())});
     }
   } catch (const MethodError&) {  // a degenerate merged model: nothing to learn from
     labelled.clear();

@@ -28,6 +28,9 @@ constexpr double kToothRadius = 0.004;
 constexpr double kToothPitch = 0.02;
 constexpr double kToothReach = 0.6;  // rake teeth reach this fraction of head_length (shorter than a hoe)
 
+// How far a shovel's rims rise above the middle of its scoop.
+double scoop_depth(const ToolShape& shape) { return shape.head_length / 5.0; }
+
 struct Surfel {
   Vec3 point, normal;
 };
@@ -113,12 +116,12 @@ std::vector<Patch> box_faces(const Vec3& lo, const Vec3& hi) {
 }
 
 // The shovel blade: the solid |x - mid(z)| <= half_thickness, |z| <= half_width, y in [y_lo, y_hi], with
-// the parabolic mid-surface mid(z) = depth * (z / half_width)^2. The thickness is measured along X,
-// which keeps both faces graphs over (y, z) and the covering test exact.
+// the parabolic mid-surface mid(z) = offset + depth * (z / half_width)^2. The thickness is measured along
+// X, which keeps both faces graphs over (y, z) and the covering test exact.
 struct Shell {
-  double y_lo, y_hi, half_width, depth, half_thickness;
+  double y_lo, y_hi, half_width, depth, half_thickness, offset;
 
-  double mid(double z) const { return depth * (z / half_width) * (z / half_width); }
+  double mid(double z) const { return offset + depth * (z / half_width) * (z / half_width); }
   double slope(double z) const { return 2.0 * depth * z / (half_width * half_width); }
   // Length of the mid-surface curve over |z| <= half_width (closed form for a parabola).
   double arc_length() const {
@@ -244,7 +247,8 @@ std::vector<Part> tool_parts(const ToolShape& shape) {
     case ToolFamily::shovel: {
       const double blade_length = std::max(shape.head_height, kMinBladeLength);
       return {cylinder(hand, on_handle_axis(head_y), r),
-              blade({head_y - blade_length, head_y, half_width, length / 5.0, kBladeHalfThickness})};
+              blade({head_y - blade_length, head_y, half_width, scoop_depth(shape), kBladeHalfThickness,
+                     shape.head_offset})};
     }
     case ToolFamily::l_stick:
       return {cylinder(hand, corner, r), ball(corner, r), cylinder(corner, Vec3(length, far_y, 0.0), r)};
@@ -256,7 +260,7 @@ std::vector<Part> tool_parts(const ToolShape& shape) {
     case ToolFamily::blade: {
       const double blade_length = std::max(shape.head_height, kMinBladeLength);
       return {cylinder(hand, on_handle_axis(head_y), r),
-              blade({head_y - blade_length, head_y, half_width, 0.0, kBladeHalfThickness})};
+              blade({head_y - blade_length, head_y, half_width, 0.0, kBladeHalfThickness, shape.head_offset})};
     }
     case ToolFamily::square_plate:
       return {cylinder(hand, corner, r), box(Vec3(-0.5 * length, far_y - kPlateThickness, -0.5 * length),
@@ -269,6 +273,8 @@ std::vector<Part> tool_parts(const ToolShape& shape) {
 }
 
 void check_shape(const ToolShape& shape) {
+  if (!std::isfinite(shape.head_offset))
+    throw std::invalid_argument("tool shape: head_offset must be finite, got " + std::to_string(shape.head_offset));
   const std::pair<const char*, double> dimensions[] = {
       {"handle_length", shape.handle_length}, {"handle_radius", shape.handle_radius},
       {"head_length", shape.head_length},     {"head_width", shape.head_width},
@@ -447,6 +453,11 @@ ToolShape default_shape(ToolFamily family) {
       break;
   }
   return shape;
+}
+
+ToolShape belly_behind(ToolShape shovel) {
+  shovel.head_offset = -scoop_depth(shovel);
+  return shovel;
 }
 
 PointCloud generate_tool(const ToolShape& shape, std::uint32_t seed) {

@@ -248,6 +248,26 @@ TEST(ToolGenerator, ExtentsMatchShapeAndHandStartsAtOrigin) {
   }
 }
 
+// A shovel whose belly is behind its handle: the blade moved back by the scoop's depth (its rims level with
+// the handle's axis, its middle a depth behind); the handle stays.
+TEST(ToolGenerator, BellyBehindMovesTheScoopBackByItsDepth) {
+  const ToolShape shovel = default_shape(ToolFamily::shovel);
+  const PointCloud front = generate_tool(shovel, 1), behind = generate_tool(belly_behind(shovel), 1);
+  const auto blade_x = [&](const PointCloud& cloud) {
+    double lo = 1.0, hi = -1.0;
+    for (const Vec3& p : cloud.points)
+      if (p.y() < -shovel.handle_length - shovel.handle_radius) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+    return std::pair{lo, hi};
+  };
+  const double depth = shovel.head_length / 5.0;
+  const auto [front_lo, front_hi] = blade_x(front);
+  const auto [behind_lo, behind_hi] = blade_x(behind);
+  EXPECT_NEAR(behind_lo, front_lo - depth, shovel.spacing);
+  EXPECT_NEAR(behind_hi, front_hi - depth, shovel.spacing);
+  EXPECT_NEAR(behind_hi, 0.002, shovel.spacing);  // the rims' outer face, half the blade's thickness out
+  EXPECT_EQ(bounds(front.points).hi.y(), bounds(behind.points).hi.y());
+}
+
 TEST(ToolGenerator, HeadExtentsTellSalientFromFrontBack) {
   for (ToolFamily family : all_families()) {
     SCOPED_TRACE(to_string(family));

@@ -82,6 +82,7 @@ struct LabelledHypothesis {
   // The effector along the true +X, or the tool has no salient effector (a stick, a T): a scoop's tip is
   // its far end whichever side the frame takes, so the tip alone does not tell its working side.
   bool effector_right = true;
+  double handle_deg = 0.0;  // the handle axis's angle from the true one (a stick's tip does not tell it)
 };
 std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulatorConfig& session,
                                                           const PipelineConfig& pipeline = {});

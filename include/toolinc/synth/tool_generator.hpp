@@ -33,6 +33,7 @@ struct ToolShape {
   double head_width = 0.08;      // m, extent across Z (hoe blade, rake bar, shovel blade, flat top)
   double head_height = 0.04;     // m, extent along Y (hoe blade, hook return, shovel blade length)
   double spacing = 0.002;        // m, mean distance between neighbouring surface samples
+  double head_offset = 0.0;      // m along X, shovel and blade: the head's shift off the handle's axis
 };
 
 std::vector<ToolFamily> all_families();
@@ -48,6 +49,10 @@ bool has_salient_effector(ToolFamily family);  // symmetry_of(family) == ToolSym
 
 // The shape a family has when nothing else is said (similar in size to the original's tools).
 ToolShape default_shape(ToolFamily family);
+
+// The shovel with its scoop lowered by its depth: its belly behind the handle's axis and its rims level
+// with it, as many real scoops are held (the lab's SHO1 bulges 17 mm behind, reaches 12 mm in front).
+ToolShape belly_behind(ToolShape shovel);
 
 // Deterministic for a given seed. Each surface patch gets round(area / spacing^2) uniform samples, so the
 // single nearest neighbour is at about spacing / 2 and the six nearest average about spacing.
