@@ -897,6 +897,16 @@ const std::array<const char*, kFrameFeatures>& frame_feature_names() {
   return names;
 }
 
+const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius) {
+  const auto& all = frame.diagnostics.hypotheses;
+  if (all.empty()) return nullptr;
+  const ScoredHypothesis& chosen = all.front();
+  const auto elsewhere = std::find_if(all.begin() + 1, all.end(), [&](const ScoredHypothesis& h) {
+    return !h.tooltip || !chosen.tooltip || (*h.tooltip - *chosen.tooltip).norm() > radius;
+  });
+  return elsewhere == all.end() ? nullptr : &*elsewhere;
+}
+
 double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
                            std::size_t chosen, double radius) {
   if (!tooltips[chosen]) return 0.0;

@@ -1,5 +1,7 @@
 #include "toolinc/render/render.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include <stdexcept>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/frame/tooltip.hpp"
 
 namespace toolinc {
 namespace {
@@ -75,6 +78,13 @@ struct Layout {
 
 bool finite(const Vec3& p) { return p.allFinite(); }
 
+// A searched frame's best hypothesis whose tip lies elsewhere, where it has one.
+const ScoredHypothesis* next_tip(const RenderScene& scene) {
+  if (!scene.frame) return nullptr;
+  const ScoredHypothesis* next = next_tip_elsewhere(*scene.frame, TooltipConfig{}.ambiguity_distance);
+  return next && next->tooltip && finite(*next->tooltip) ? next : nullptr;
+}
+
 // Every point the picture must show: clouds, hand origin, frame origin and axis ends, tooltip.
 Points scene_extent_points(const RenderScene& scene, const RenderOptions& options) {
   Points out;
@@ -87,6 +97,7 @@ Points scene_extent_points(const RenderScene& scene, const RenderOptions& option
     for (int a = 0; a < 3; ++a) out.push_back(scene.frame->origin + options.axis_length * scene.frame->axes.col(a));
   }
   if (scene.tooltip && finite(*scene.tooltip)) out.push_back(*scene.tooltip);
+  if (const ScoredHypothesis* next = next_tip(scene)) out.push_back(*next->tooltip);
   return out;
 }
 
@@ -148,12 +159,12 @@ void draw_text(cv::Mat& image, const std::string& text, cv::Point at, double siz
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, size, colour, thickness, cv::LINE_AA);
 }
 
-void draw_tooltip_marker(cv::Mat& image, cv::Point c, int radius) {
+void draw_tooltip_marker(cv::Mat& image, cv::Point c, int radius, const cv::Scalar& colour = kRenderTooltip) {
   const int arm = radius + radius / 2;
   cv::circle(image, c, radius, kRenderBackground, 4, cv::LINE_8);
-  cv::circle(image, c, radius, kRenderTooltip, 2, cv::LINE_8);
-  cv::line(image, c - cv::Point(arm, 0), c + cv::Point(arm, 0), kRenderTooltip, 2, cv::LINE_8);
-  cv::line(image, c - cv::Point(0, arm), c + cv::Point(0, arm), kRenderTooltip, 2, cv::LINE_8);
+  cv::circle(image, c, radius, colour, 2, cv::LINE_8);
+  cv::line(image, c - cv::Point(arm, 0), c + cv::Point(arm, 0), colour, 2, cv::LINE_8);
+  cv::line(image, c - cv::Point(0, arm), c + cv::Point(0, arm), colour, 2, cv::LINE_8);
 }
 
 void draw_hand_marker(cv::Mat& image, cv::Point c, int half) {
@@ -267,6 +278,8 @@ void draw_panel(cv::Mat& image, const PanelLayout& panel, double scale, const Re
     cv::circle(roi, origin, 4, kInk, -1, cv::LINE_8);
   }
 
+  if (const ScoredHypothesis* next = next_tip(scene))
+    draw_tooltip_marker(roi, local_pixel(panel, scale, *next->tooltip), 6, kRenderNextTip);
   if (scene.tooltip && finite(*scene.tooltip)) draw_tooltip_marker(roi, local_pixel(panel, scale, *scene.tooltip), 8);
 
   draw_scale_bar(roi, scale);
@@ -289,7 +302,7 @@ void draw_legend(cv::Mat& image, const Layout& layout, const RenderScene& scene)
   const std::size_t max_chars = static_cast<std::size_t>(std::max(8, (col_width - 40) / 9));
 
   struct Entry {
-    int kind;  // 0 cloud swatch, 1 axis line, 2 tooltip, 3 hand, 4 text only
+    int kind;  // 0 cloud swatch, 1 axis line, 2 tip marker, 3 hand, 4 text only
     cv::Scalar colour;
     std::string text;
   };
@@ -299,7 +312,14 @@ void draw_legend(cv::Mat& image, const Layout& layout, const RenderScene& scene)
     fixed.push_back({1, kRenderAxisY, "tool Y (handle)"});
     fixed.push_back({1, kRenderAxisZ, "tool Z (symmetry)"});
   }
-  if (scene.tooltip) fixed.push_back({2, kRenderTooltip, "tooltip"});
+  const bool searched = scene.frame && !scene.frame->diagnostics.hypotheses.empty();
+  if (scene.tooltip)
+    fixed.push_back({2, kRenderTooltip,
+                     searched ? fmt::format("tooltip, p {:.2f}, {}", scene.frame->diagnostics.tooltip_probability,
+                                            scene.frame->confidence.confident ? "confident" : "doubtful")
+                              : "tooltip"});
+  if (const ScoredHypothesis* next = next_tip(scene))
+    fixed.push_back({2, kRenderNextTip, fmt::format("next tip elsewhere, p {:.2f}", next->probability)});
   fixed.push_back({3, kInk, "hand frame origin"});
 
   std::vector<Entry> entries;
@@ -327,7 +347,7 @@ void draw_legend(cv::Mat& image, const Layout& layout, const RenderScene& scene)
         cv::line(roi, at + cv::Point(0, 9), at + cv::Point(16, 9), e.colour, 3, cv::LINE_8);
         break;
       case 2:
-        draw_tooltip_marker(roi, mid, 5);
+        draw_tooltip_marker(roi, mid, 5, e.colour);
         break;
       case 3:
         draw_hand_marker(roi, mid, 6);

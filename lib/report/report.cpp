@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "toolinc/core/error.hpp"
+#include "toolinc/frame/tooltip.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/io/read_file.hpp"
 #include "toolinc/results/results_json.hpp"
@@ -157,9 +158,7 @@ std::string hypotheses_section(const ToolFrame& frame) {
   const auto& all = frame.diagnostics.hypotheses;
   if (all.empty()) return "";
   const ScoredHypothesis& chosen = all.front();
-  const auto elsewhere = std::find_if(all.begin() + 1, all.end(), [&](const ScoredHypothesis& h) {
-    return !h.tooltip || !chosen.tooltip || (*h.tooltip - *chosen.tooltip).norm() > 0.01;
-  });
+  const ScoredHypothesis* elsewhere = next_tip_elsewhere(frame, TooltipConfig{}.ambiguity_distance);
   std::string html = fmt::format(
       "<table id=\"hypotheses\">\n<thead><tr><th class=\"text\">hypothesis ({} weighed; the chosen tooltip's "
       "probability {:.2f})</th><th class=\"text\">handle</th><th class=\"text\">plane, side</th><th>probability</th>"
@@ -174,7 +173,7 @@ std::string hypotheses_section(const ToolFrame& frame) {
         h.tooltip ? vector_cells(*h.tooltip, 4) : "<td></td><td></td><td></td>");
   };
   row("chosen", chosen);
-  if (elsewhere != all.end()) row("next, its tip elsewhere", *elsewhere);
+  if (elsewhere) row("next, its tip elsewhere", *elsewhere);
   return html + "</tbody>\n</table>\n";
 }
 

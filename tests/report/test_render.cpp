@@ -139,6 +139,29 @@ TEST(Render, TooltipMarkerWhereItBelongs) {
   EXPECT_FALSE(has_colour(render_scene(bare), kRenderTooltip));
 }
 
+// A searched frame's best hypothesis whose tip lies elsewhere is marked where it projects, in its own
+// colour; the rules' frame has none.
+TEST(Render, SearchedFrameMarksTheNextTipElsewhere) {
+  RenderScene scene = hoe_scene();
+  ScoredHypothesis chosen, next;
+  chosen.probability = 0.6;
+  chosen.tooltip = *scene.tooltip;
+  next.probability = 0.3;
+  next.tooltip = scene.frame->origin - 0.05 * scene.frame->axes.col(0);  // 5 cm behind the origin
+  scene.frame->diagnostics.hypotheses = {chosen, next};
+  scene.frame->diagnostics.tooltip_probability = 0.6;
+  const cv::Mat image = render_scene(scene);
+  for (const auto& p : project_to_panels(scene, *next.tooltip)) {
+    SCOPED_TRACE(to_string(p.panel));
+    ASSERT_TRUE(p.inside);
+    EXPECT_TRUE(colour_near(image, p.pixel + cv::Point(6, 0), kRenderNextTip, 1));
+  }
+  // A hypothesis agreeing on the tip (within 10 mm) is not another tip.
+  scene.frame->diagnostics.hypotheses[1].tooltip = *scene.tooltip + Vec3(0.005, 0.0, 0.0);
+  EXPECT_FALSE(has_colour(render_scene(scene), kRenderNextTip));
+  EXPECT_FALSE(has_colour(render_scene(hoe_scene()), kRenderNextTip));
+}
+
 TEST(Render, SameInputSameBytes) {
   const RenderScene scene = hoe_scene();
   EXPECT_EQ(encode_png(render_scene(scene)), encode_png(render_scene(hoe_scene())));

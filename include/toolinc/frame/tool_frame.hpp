@@ -185,6 +185,11 @@ struct Reach {
 Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
                      const Vec3& x_axis, double q);
 
+// The searched frame's best hypothesis whose tooltip lies farther than `radius` from the chosen one's
+// (or that has none): what a doubtful search was torn between. Null for a frame made by the rules, or
+// when every hypothesis agrees on the tip.
+const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius);
+
 // points: the tool in the hand frame (the hand at the origin). viewpoints (optional): where the sensors
 // saw it from (hand frame), so that parts never seen do not count against a symmetry plane. Throws
 // MethodError with the reason on degenerate input (too few points, collinear, planar, everything inside

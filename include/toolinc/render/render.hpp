@@ -23,8 +23,9 @@ struct RenderCloud {
 
 struct RenderScene {
   std::vector<RenderCloud> clouds;
-  std::optional<ToolFrame> frame;  // only axes and origin are used
-  std::optional<Vec3> tooltip;     // hand frame
+  // Its axes and origin; a searched frame's hypotheses add the next tip elsewhere and the probabilities.
+  std::optional<ToolFrame> frame;
+  std::optional<Vec3> tooltip;  // hand frame
 };
 
 struct RenderOptions {
@@ -39,6 +40,7 @@ inline const cv::Scalar kRenderAxisX{0, 0, 255};
 inline const cv::Scalar kRenderAxisY{0, 170, 0};
 inline const cv::Scalar kRenderAxisZ{255, 0, 0};
 inline const cv::Scalar kRenderTooltip{255, 0, 255};
+inline const cv::Scalar kRenderNextTip{0, 200, 255};  // a searched frame's best hypothesis tipped elsewhere
 inline const cv::Scalar kRenderBackground{255, 255, 255};
 
 enum class RenderPanel { xy = 0, xz = 1, yz = 2, oblique = 3 };
