@@ -194,7 +194,7 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
 }  // namespace
 
 TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config)
-    : points_(points), tree_(tree), config_(config), dense_(points.size(), -1), smoothing_(points.size()) {
+    : points_(points), tree_(tree), config_(config), dense_(points.size(), -1) {
   const double hand_r2 = config.hand_radius * config.hand_radius;
   from_hand_.reserve(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) {
@@ -212,8 +212,9 @@ bool TooltipCache::dense(std::uint32_t index) const {
 }
 
 const std::vector<KdTree::Neighbor>& TooltipCache::smoothing_neighbors(std::uint32_t index) const {
-  if (smoothing_[index].empty()) smoothing_[index] = tree_.knn(points_[index], config_.smoothing_neighbors);
-  return smoothing_[index];
+  const auto [known, added] = smoothing_.try_emplace(index);
+  if (added) known->second = tree_.knn(points_[index], config_.smoothing_neighbors);
+  return known->second;
 }
 
 double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config) {

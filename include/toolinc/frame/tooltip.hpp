@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
@@ -93,8 +94,8 @@ class TooltipCache {
   TooltipConfig config_;
   std::vector<double> from_hand_;
   std::vector<std::uint32_t> beyond_hand_;
-  mutable std::vector<std::int8_t> dense_;                        // per point: 1 dense, 0 sparse, -1 not checked yet
-  mutable std::vector<std::vector<KdTree::Neighbor>> smoothing_;  // per point; empty: not searched yet
+  mutable std::vector<std::int8_t> dense_;  // per point: 1 dense, 0 sparse, -1 not checked yet
+  mutable std::unordered_map<std::uint32_t, std::vector<KdTree::Neighbor>> smoothing_;  // of the points searched
 };
 
 // Throws MethodError when no effector-side point passes the density check.
