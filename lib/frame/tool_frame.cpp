@@ -934,6 +934,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   TooltipConfig tooltip_config;
   tooltip_config.hand_radius = config.hand_radius;
   const KdTree tree(input);
+  const TooltipCache tooltip_cache(input, tree, tooltip_config);  // shared by every hypothesis's tooltip
   // The hand holds the handle: a candidate whose line passes beyond grasp-reach from it is no hypothesis,
   // unless every candidate does.
   auto candidates = handle_candidates(p.cloud, p.principal, config);
@@ -959,7 +960,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
         h.features = features_of(h.frame, p.cloud, held, plane == 0, config);
         h.log_odds = model.log_odds(h.features);
         try {
-          h.tooltip = find_tooltip(input, tree, h.frame, tooltip_config).position;
+          h.tooltip = find_tooltip(tooltip_cache, h.frame).position;
         } catch (const MethodError&) {  // nothing dense on this hypothesis's effector side
         }
         hypotheses.push_back(std::move(h));

@@ -34,27 +34,24 @@ struct Pick {
   int candidates = 0, rejected_sparse = 0;
 };
 
-Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config) {
-  const double hand_r2 = config.hand_radius * config.hand_radius;
+Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
+  const Points& points = cache.points();
+  const TooltipConfig& config = cache.config();
   std::vector<std::uint32_t> candidates;
-  for (std::uint32_t i = 0; i < points.size(); ++i)
-    if (points[i].squaredNorm() > hand_r2 && (points[i] - frame.origin).dot(frame.handle_axis()) < 0)
-      candidates.push_back(i);
+  for (const auto i : cache.beyond_hand())
+    if ((points[i] - frame.origin).dot(frame.handle_axis()) < 0) candidates.push_back(i);
   // The density check needs a radius search, so it runs lazily, best candidates first.
-  const auto dense = [&](std::uint32_t i) {
-    const auto needed = static_cast<std::size_t>(config.min_neighbors) + 2;  // the point itself + "more than"
-    return tree.count_within(points[i], config.density_radius, needed) >= needed;
-  };
+  const auto dense = [&](std::uint32_t i) { return cache.dense(i); };
   const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(frame.effector_axis()); };
   // A stick's effector axis is arbitrary (nothing stands out from its handle), so "in front" means
   // nothing there: its tip is its far end, along the handle away from the hand.
   // A blade or scoop continuing the handle works with its far end: the farthest from the hand.
   const auto primary = [&](std::uint32_t i) {
     if (frame.stick) return -(points[i] - frame.origin).dot(frame.handle_axis());
-    if (frame.tip_at_far_end()) return points[i].norm();
+    if (frame.tip_at_far_end()) return cache.from_hand(i);
     return config.rule == TooltipRule::furthest
                ? front(i)
-               : config.effector_weight * front(i) + (1.0 - config.effector_weight) * points[i].norm();
+               : config.effector_weight * front(i) + (1.0 - config.effector_weight) * cache.from_hand(i);
   };
   // Best first by the primary score, ties by index, so the order does not depend on the sort's stability.
   // Only the best end is needed (the first dense candidate and those tied with it), so the candidates
@@ -104,11 +101,11 @@ Pick pick(const Points& points, const KdTree& tree, const ToolFrame& frame, cons
   for (auto i : p.tied) end_centre += points[i] / static_cast<double>(p.tied.size());
   double best = -std::numeric_limits<double>::infinity();
   for (auto i : p.tied) {
-    double t = points[i].norm();
+    double t = cache.from_hand(i);
     if (frame.stick) {
       t = -(points[i] - end_centre).norm();
     } else if (frame.tip_at_far_end() || config.rule == TooltipRule::weighted) {
-      const auto near = tree.knn(points[i], config.smoothing_neighbors);
+      const auto& near = cache.smoothing_neighbors(i);
       double sum = 0.0;
       for (const auto& n : near) sum += frame.tip_at_far_end() ? across_handle(n.index) : front(n.index);
       const double mean = sum / static_cast<double>(near.size());
@@ -130,6 +127,9 @@ Vec3 rule_direction(const Vec3& point, const ToolFrame& frame, const TooltipConf
   if (config.rule == TooltipRule::furthest) return frame.effector_axis();
   return (config.effector_weight * frame.effector_axis() + (1.0 - config.effector_weight) * from_hand).normalized();
 }
+
+// How far apart edge_retreat measures the density along its line.
+double retreat_step(const TooltipConfig& config) { return config.tip_edge_radius / 5.0; }
 
 // The point projected onto the frame's symmetry plane.
 Vec3 on_symmetry_plane(const Vec3& point, const ToolFrame& frame) {
@@ -173,8 +173,9 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
     on_plane.push_back(on_symmetry_plane(point, f));
     directions.push_back(direction.norm() < 1e-9 ? Vec3::Zero() : Vec3(direction.normalized()));
     reach.extend(on_plane.back());
+    reach.extend(Vec3(on_plane.back() - std::max(0.0, config.fringe_depth) * directions.back()));
   }
-  const double margin = config.fringe_depth + 2.0 * config.tip_edge_radius;
+  const double margin = config.tip_edge_radius + retreat_step(config);
   reach.min().array() -= margin;
   reach.max().array() += margin;
   Points near;
@@ -192,9 +193,33 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
 
 }  // namespace
 
+TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config)
+    : points_(points), tree_(tree), config_(config), dense_(points.size(), -1) {
+  const double hand_r2 = config.hand_radius * config.hand_radius;
+  from_hand_.reserve(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    from_hand_.push_back(points[i].norm());
+    if (points[i].squaredNorm() > hand_r2) beyond_hand_.push_back(i);
+  }
+}
+
+bool TooltipCache::dense(std::uint32_t index) const {
+  if (dense_[index] < 0) {
+    const auto needed = static_cast<std::size_t>(config_.min_neighbors) + 2;  // the point itself + "more than"
+    dense_[index] = tree_.count_within(points_[index], config_.density_radius, needed) >= needed;
+  }
+  return dense_[index] == 1;
+}
+
+const std::vector<KdTree::Neighbor>& TooltipCache::smoothing_neighbors(std::uint32_t index) const {
+  const auto [known, added] = smoothing_.try_emplace(index);
+  if (added) known->second = tree_.knn(points_[index], config_.smoothing_neighbors);
+  return known->second;
+}
+
 double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config) {
   if (config.fringe_depth <= 0.0) return 0.0;
-  const double step = config.tip_edge_radius / 5.0;
+  const double step = retreat_step(config);
   const int steps = static_cast<int>(std::round(config.fringe_depth / step));
   const auto density = [&](int k) { return tree.count_within(point - k * step * direction, config.tip_edge_radius); };
   const std::size_t behind = density(steps);
@@ -208,7 +233,14 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
 }
 
 Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config) {
-  const Pick p = pick(points, tree, frame, config);
+  return find_tooltip(TooltipCache(points, tree, config), frame);
+}
+
+Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
+  const Points& points = cache.points();
+  const KdTree& tree = cache.tree();
+  const TooltipConfig& config = cache.config();
+  const Pick p = pick(cache, frame);
   if (p.chosen == KdTree::npos)
     throw MethodError(
         fmt::format("no tooltip: none of the {} effector-side points has more than {} "
@@ -259,7 +291,7 @@ Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& 
   if (other_tied < p.tied.size())
     tip.alternatives.push_back({other_tied_position, frame.symmetry_axis(), frame.symmetry_score, "tied point"});
   const auto add_tip_with = [&](const ToolFrame& other, double plane_score, const char* source) {
-    const Pick q = pick(points, tree, other, config);
+    const Pick q = pick(cache, other);
     if (q.chosen != KdTree::npos)
       tip.alternatives.push_back(
           {edges_on_plane(points, other, {points[q.chosen]}, config)[0], other.symmetry_axis(), plane_score, source});

@@ -2,7 +2,10 @@
 // plane, furthest in front of the effector plane.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/point_cloud.hpp"
@@ -66,9 +69,40 @@ struct Tooltip {
 // tip-edge-radius first reaches half that of the surface fringe-depth behind the point. 0 at a sharp edge.
 double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config);
 
+// What the tooltip's rule measures of a cloud whatever the frame, kept for the many frames of one cloud (the
+// search's hypotheses, a frame's alternatives): each point's distance from the hand, the points beyond it,
+// and each point's density check and smoothing neighbours, computed when first needed. Not thread-safe (it
+// caches); points and tree (over points) must outlive it.
+class TooltipCache {
+ public:
+  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config);
+
+  const Points& points() const { return points_; }
+  const KdTree& tree() const { return tree_; }
+  const TooltipConfig& config() const { return config_; }
+  double from_hand(std::uint32_t index) const { return from_hand_[index]; }  // the point's distance from the hand
+  // The indices of the points farther than hand-radius from the hand, ascending.
+  const std::vector<std::uint32_t>& beyond_hand() const { return beyond_hand_; }
+  // Whether the point has more than min-neighbors others within density-radius.
+  bool dense(std::uint32_t index) const;
+  // The point's smoothing-neighbors nearest points (itself included), nearest first.
+  const std::vector<KdTree::Neighbor>& smoothing_neighbors(std::uint32_t index) const;
+
+ private:
+  const Points& points_;
+  const KdTree& tree_;
+  TooltipConfig config_;
+  std::vector<double> from_hand_;
+  std::vector<std::uint32_t> beyond_hand_;
+  mutable std::vector<std::int8_t> dense_;  // per point: 1 dense, 0 sparse, -1 not checked yet
+  mutable std::unordered_map<std::uint32_t, std::vector<KdTree::Neighbor>> smoothing_;  // of the points searched
+};
+
 // Throws MethodError when no effector-side point passes the density check.
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {});
-// The same with the points' tree already built (tree over points), for many frames of one cloud.
+// The same with the points' tree already built (tree over points).
 Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config);
+// The same with what the rule measures of the cloud kept from other frames of it, with the cache's config.
+Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame);
 
 }  // namespace toolinc
