@@ -3,12 +3,12 @@
 // on simulated sessions of the generated families. Every frame hypothesis on each session's merged model is
 // labelled right when its tooltip lies within --tip-tolerance of the truth carried by the true model aligned
 // onto the merge, on a tool with a salient effector its effector points the true way, and its handle lies
-// within --handle-tolerance of the true one; a choice model of the
-// hypotheses' features is fitted so that each session's right ones are the likely ones. On sessions of other seeds,
-// never fitted on, the chosen hypotheses' probabilities are compared with how often their tooltips were right (the
-// calibration table), and the probability from which 98 % of chosen tooltips lie within 15 mm becomes the confidence
-// threshold. The real tools, the CAD models and the robot's reconstructions are never fitted on: they are the exam. The
-// output is configs/frame-score.json's contents.
+// within --handle-tolerance of the true one; a choice model of the hypotheses' features is fitted so that
+// each session's right ones are the likely ones. On sessions of other seeds, never fitted on, the chosen
+// hypotheses' probabilities are compared with how often their tooltips were right (the calibration table),
+// and the probability from which 98 % of chosen tooltips lie within 15 mm becomes the confidence threshold.
+// The real tools, the CAD models and the robot's reconstructions are never fitted on: they are the exam.
+// The output is configs/frame-score.json's contents.
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 

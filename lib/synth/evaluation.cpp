@@ -130,6 +130,7 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
   const MergedSession m = simulate_and_merge(config, pipeline);
   std::vector<LabelledHypothesis> labelled;
   if (!m.failure.empty()) return labelled;
+  const bool salient = tool_symmetry(config) == ToolSymmetry::mirror;
   try {
     for (const auto& h : frame_hypotheses(m.merged.model.points, pipeline.frame, m.merged.model.viewpoints)) {
       double error = std::numeric_limits<double>::infinity();
@@ -137,8 +138,7 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
         error = tooltip_error(m.relative, find_tooltip(m.merged.model.points, h.frame, pipeline.tooltip).position);
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
-      const bool effector_right =
-          tool_symmetry(config) != ToolSymmetry::mirror || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
+      const bool effector_right = !salient || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
       labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error, effector_right,
                           handle_axis_error_deg(m.relative, h.frame.handle_axis())});
     }
