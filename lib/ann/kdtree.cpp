@@ -89,22 +89,14 @@ KdTree::Neighbor KdTree::nearest(const Vec3& query, double max_distance) const {
 }
 
 std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
-  std::vector<Neighbor> nearest;  // sorted: for the few neighbours asked for, cheaper than a heap
-  if (k <= 0) return nearest;
-  nearest.reserve(k + 1);
-  const auto closer = [](const Neighbor& a, const Neighbor& b) {
-    return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
-  };
+  if (k <= 0) return {};
+  KNearest nearest(k);
   double bound2 = std::numeric_limits<double>::infinity();
-  search(query, bound2, [&](std::uint32_t index, double d2) {
-    const Neighbor candidate{index, d2};
-    if (static_cast<int>(nearest.size()) == k && !closer(candidate, nearest.back())) return;
-    nearest.insert(std::upper_bound(nearest.begin(), nearest.end(), candidate, closer), candidate);
-    if (static_cast<int>(nearest.size()) > k) nearest.pop_back();
-    if (static_cast<int>(nearest.size()) == k) bound2 = nearest.back().distance2;
-  });
-  return nearest;
+  search(query, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
+  return nearest.kept();
 }
+
+KNearest::KNearest(int k) : k_(std::max(k, 0)) { kept_.reserve(k_ + 1); }
 
 std::size_t KdTree::count_within(const Vec3& query, double radius, std::size_t enough) const {
   std::size_t count = 0;

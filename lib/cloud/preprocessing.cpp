@@ -128,11 +128,11 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
   return kept;
 }
 
-Vec3 normal_at(const KdTree& tree, const Vec3& point, int k) {
-  const auto neighbours = tree.knn(point, k);
+Vec3 normal_at(const KdTree& tree, const Vec3& point, int k) { return normal_of(tree.points(), tree.knn(point, k)); }
+
+Vec3 normal_of(const Points& points, const std::vector<KdTree::Neighbor>& neighbours) {
   if (neighbours.size() < 3) return Vec3::UnitZ();
-  const auto spread =
-      scatter_of<3>(neighbours.size(), [&](std::size_t j) { return tree.points()[neighbours[j].index]; });
+  const auto spread = scatter_of<3>(neighbours.size(), [&](std::size_t j) { return points[neighbours[j].index]; });
   // The closed-form 3x3 solver: several times faster than the iterative one, and accurate enough
   // for the smallest eigenvector of a neighbourhood's spread.
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;

@@ -45,10 +45,10 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
   for (const auto i : by_cell_) cell_points_.push_back(points[i]);
 }
 
-KdTree::Neighbor MirrorTarget::nearest(const Vec3& query) const {
-  KdTree::Neighbor best{KdTree::npos, std::numeric_limits<double>::infinity()};
+template <typename Visit>
+void MirrorTarget::scan(const Vec3& query, double& bound2, Visit&& visit) const {
   const Eigen::Array3d at = ((query - low_) / cell_).array().floor();
-  if (points_.empty() || !at.allFinite() || (at < -1.0).any() || (at > cells_.cast<double>()).any()) return best;
+  if (points_.empty() || !at.allFinite() || (at < -1.0).any() || (at > cells_.cast<double>()).any()) return;
   // Per axis, the query's cell and its two neighbours, each with the squared distance from the query to
   // its side (less a margin for rounding): no point of a cell lies nearer than the sum over the axes.
   int index[3][3];
@@ -60,36 +60,55 @@ KdTree::Neighbor MirrorTarget::nearest(const Vec3& query) const {
     index[a][0] = c, index[a][1] = c - 1, index[a][2] = c + 1;
     gap2[a][0] = 0.0, gap2[a][1] = below * below, gap2[a][2] = above * above;
   }
-  double bound2 = tolerance_ * tolerance_;
   for (int i = 0; i < 3; ++i) {
     const int x = index[0][i];
     if (x < 0 || x >= cells_.x() || gap2[0][i] > bound2) continue;
     for (int j = 0; j < 3; ++j) {
       const int y = index[1][j];
-      if (y < 0 || y >= cells_.y() || gap2[0][i] + gap2[1][j] > bound2) continue;
-      for (int k = 0; k < 3; ++k) {
-        const int z = index[2][k];
-        if (z < 0 || z >= cells_.z() || gap2[0][i] + gap2[1][j] + gap2[2][k] > bound2) continue;
-        const std::size_t cell = (static_cast<std::size_t>(x) * cells_.y() + y) * cells_.z() + z;
-        for (std::uint32_t n = cell_begin_[cell]; n < cell_begin_[cell + 1]; ++n) {
-          const double d2 = (cell_points_[n] - query).squaredNorm();
-          if (d2 <= bound2 && (d2 < best.distance2 || (d2 == best.distance2 && by_cell_[n] < best.index))) {
-            best = {by_cell_[n], d2};
-            bound2 = d2;
-          }
-        }
+      const double xy = gap2[0][i] + gap2[1][j];
+      if (y < 0 || y >= cells_.y() || xy > bound2) continue;
+      // A row's cells along z lie side by side in by_cell_: those of the three that can hold a point within
+      // the bound are one run of points, scanned in one loop rather than cell by cell.
+      const int first = std::max(0, xy + gap2[2][1] <= bound2 ? index[2][1] : index[2][0]);
+      const int last = std::min(cells_.z() - 1, xy + gap2[2][2] <= bound2 ? index[2][2] : index[2][0]);
+      if (first > last) continue;
+      const std::size_t row = (static_cast<std::size_t>(x) * cells_.y() + y) * cells_.z();
+      for (std::uint32_t n = cell_begin_[row + first]; n < cell_begin_[row + last + 1]; ++n) {
+        const double d2 = (cell_points_[n] - query).squaredNorm();
+        if (d2 <= bound2) visit(by_cell_[n], d2);
       }
     }
   }
+}
+
+KdTree::Neighbor MirrorTarget::nearest(const Vec3& query) const {
+  KdTree::Neighbor best{KdTree::npos, std::numeric_limits<double>::infinity()};
+  double bound2 = tolerance_ * tolerance_;
+  scan(query, bound2, [&](std::uint32_t index, double d2) {
+    if (d2 < best.distance2 || (d2 == best.distance2 && index < best.index)) {
+      best = {index, d2};
+      bound2 = d2;
+    }
+  });
   return best;
 }
 
 const Vec3& MirrorTarget::normal(std::uint32_t index) const {
   if (!normal_known_[index]) {
-    normals_[index] = normal_at(tree_, points_[index], normal_neighbors_);
+    normals_[index] = normal_of(points_, neighbours(points_[index]));
     normal_known_[index] = true;
   }
   return normals_[index];
+}
+
+std::vector<KdTree::Neighbor> MirrorTarget::neighbours(const Vec3& point) const {
+  // Every point within a cell's width of the query (less the margin, twice: once for the query's own cell)
+  // lies in the cells a scan visits: when normal_neighbors of them are that near, they are the nearest,
+  // and the grid finds them for a fraction of the kd-tree's search. Otherwise the tree does.
+  KNearest nearest(normal_neighbors_);
+  double bound2 = std::pow(cell_ * (1.0 - 2.0 * kCellMargin), 2);
+  scan(point, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
+  return nearest.full() ? nearest.kept() : tree_.knn(point, normal_neighbors_);
 }
 
 SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, double match_weight,

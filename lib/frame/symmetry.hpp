@@ -26,8 +26,15 @@ class MirrorTarget {
   // The nearest point within tolerance (ties to the lowest index), as KdTree::nearest finds it.
   KdTree::Neighbor nearest(const Vec3& query) const;
   const Vec3& normal(std::uint32_t index) const;
+  // The normal_neighbors nearest points of point, as KdTree::knn finds them.
+  std::vector<KdTree::Neighbor> neighbours(const Vec3& point) const;
 
  private:
+  // Calls visit(index, squared distance) for the points within the query's cell and the 26 around it
+  // that lie within sqrt(bound2) of it, which visit may lower; bound2 at most the cells' width squared.
+  template <typename Visit>
+  void scan(const Vec3& query, double& bound2, Visit&& visit) const;
+
   const Points& points_;
   double tolerance_;
   KdTree tree_;  // for the normals' neighbours

@@ -959,10 +959,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
             reversed ? other_side(frames[plane]) : frames[plane], source, plane == 0, reversed, {}, 0.0, std::nullopt};
         h.features = features_of(h.frame, p.cloud, held, plane == 0, config);
         h.log_odds = model.log_odds(h.features);
-        try {
-          h.tooltip = find_tooltip(tooltip_cache, h.frame).position;
-        } catch (const MethodError&) {  // nothing dense on this hypothesis's effector side
-        }
+        h.tooltip = tooltip_position(tooltip_cache, h.frame);  // none: nothing dense on its effector side
         hypotheses.push_back(std::move(h));
       }
   }

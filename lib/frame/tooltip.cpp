@@ -236,6 +236,14 @@ Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& 
   return find_tooltip(TooltipCache(points, tree, config), frame);
 }
 
+std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame) {
+  const Pick p = pick(cache, frame);
+  if (p.chosen == KdTree::npos) return std::nullopt;
+  // The chosen point's edge alone: its retreat counts only projected points near its own line, which
+  // edges_on_plane keeps whatever other points it is given, so the position is find_tooltip's.
+  return edges_on_plane(cache.points(), frame, {cache.points()[p.chosen]}, cache.config())[0];
+}
+
 Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
   const Points& points = cache.points();
   const KdTree& tree = cache.tree();

@@ -12,9 +12,11 @@
 #include "support/run_tool.hpp"
 #include "support/synthetic_cases.hpp"
 #include "toolinc/core/choice_model.hpp"
+#include "toolinc/core/error.hpp"
 #include "toolinc/core/random.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/frame/frame_search.hpp"
+#include "toolinc/frame/tooltip.hpp"
 #include "toolinc/io/json_file.hpp"
 
 using namespace toolinc;
@@ -96,6 +98,25 @@ TEST(FrameSearch, HypothesesAreCandidateHandlesAndPlanesWithEitherSide) {
     }
   }
   EXPECT_GT(alternatives, 0) << "no handle had an alternative plane (at least its quarter turn)";
+}
+
+TEST(FrameSearch, EachHypothesissTooltipIsFindTooltipsPosition) {
+  // tooltip_position skips what find_tooltip measures around its tip, not the tip: the same position to
+  // the bit, on every hypothesis (either side, every plane), and none where find_tooltip throws.
+  for (const ToolFamily family : {ToolFamily::hoe, ToolFamily::shovel, ToolFamily::stick}) {
+    const HeldToolCase held = make_held_tool(family, 3);
+    const KdTree tree(held.observed);
+    const TooltipCache cache(held.observed, tree, TooltipConfig{});
+    for (const auto& h : frame_hypotheses(held.observed)) {
+      const std::optional<Vec3> position = tooltip_position(cache, h.frame);
+      ASSERT_TRUE(position.has_value()) << to_string(family);
+      EXPECT_EQ(*position, find_tooltip(cache, h.frame).position) << to_string(family);
+    }
+    ToolFrame away = frame_hypotheses(held.observed).front().frame;
+    away.origin -= 10.0 * away.handle_axis();  // nothing lies beyond the origin along the handle: no tooltip
+    EXPECT_FALSE(tooltip_position(cache, away).has_value());
+    EXPECT_THROW(find_tooltip(cache, away), MethodError);
+  }
 }
 
 TEST(FrameSearch, TheTooltipsProbabilityIsTheShareOfTheHypothesesAgreeingOnIt) {

@@ -2,8 +2,12 @@
 // known by construction.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "cloud/free_space.hpp"
 #include "frame/symmetry.hpp"
+#include "toolinc/ann/kdtree.hpp"
+#include "toolinc/cloud/preprocessing.hpp"
 
 namespace toolinc {
 namespace {
@@ -52,6 +56,41 @@ TEST(SymmetryScorer, AMissingHalfContradictsOnlyWhereASensorSawEmptySpace) {
   const FreeSpace edge_on(half_t, {Vec3(0.5, -0.2, 0.0)});
   EXPECT_FALSE(edge_on.seen(Vec3(-0.03, -0.2, 0.0)));
   EXPECT_LT(SymmetryScorer(target, 500, 1.0, &edge_on).score(kAcross, Vec3::Zero()), 0.03);
+}
+
+// A cloud at the grid's scale: points on a lattice a fifth of the tolerance apart (many exact ties in
+// distance) and at random, a few sparse far ones (their neighbours beyond a cell: the tree's fallback), and
+// queries on points, between them and off the cloud.
+TEST(MirrorTarget, LookupsAreTheKdTreesWithTiesAndSparsePoints) {
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> lattice(-10, 10);
+  std::uniform_real_distribution<double> u(-0.025, 0.025), far(-0.5, 0.5);
+  for (const double tolerance : {kTolerance, 0.013}) {
+    Points points;
+    for (int i = 0; i < 800; ++i) points.emplace_back(lattice(random) * 0.001, lattice(random) * 0.001, 0.0);
+    for (int i = 0; i < 800; ++i) points.emplace_back(u(random), u(random), u(random) / 5);
+    for (int i = 0; i < 10; ++i) points.emplace_back(far(random), far(random), far(random));
+    const int k = 6;
+    const MirrorTarget target(points, tolerance, k);
+    const KdTree tree(points);
+    Points queries(points.begin(), points.begin() + 200);
+    for (int i = 0; i < 200; ++i) queries.emplace_back(lattice(random) * 0.0025, lattice(random) * 0.0025, 0.001);
+    for (int i = 0; i < 200; ++i) queries.emplace_back(1.5 * u(random), 1.5 * u(random), u(random));
+    for (int i = 0; i < 10; ++i) queries.push_back(points[1600 + i]);
+    for (const Vec3& query : queries) {
+      const KdTree::Neighbor expected = tree.nearest(query, tolerance), got = target.nearest(query);
+      EXPECT_EQ(got.index, expected.index);
+      if (expected.index != KdTree::npos) EXPECT_EQ(got.distance2, expected.distance2);
+      const auto expected_knn = tree.knn(query, k), got_knn = target.neighbours(query);
+      ASSERT_EQ(got_knn.size(), expected_knn.size());
+      for (std::size_t i = 0; i < got_knn.size(); ++i) {
+        EXPECT_EQ(got_knn[i].index, expected_knn[i].index) << i;
+        EXPECT_EQ(got_knn[i].distance2, expected_knn[i].distance2) << i;
+      }
+    }
+    for (std::uint32_t i = 0; i < points.size(); i += 37)
+      EXPECT_EQ(target.normal(i), normal_at(tree, points[i], k)) << i;
+  }
 }
 
 }  // namespace

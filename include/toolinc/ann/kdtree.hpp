@@ -3,6 +3,7 @@
 // reference to the points, which must outlive it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -50,6 +51,31 @@ class KdTree {
   std::vector<std::uint32_t> order_;
   Points ordered_;  // points_ in order_'s order: a leaf's points lie side by side in memory
   std::vector<Node> nodes_;
+};
+
+// The k nearest of the points offered, as KdTree::knn keeps them: sorted by distance, ties by index.
+// Another search (a grid's) that offers every point within the bound it lowers finds the same neighbours.
+class KNearest {
+ public:
+  explicit KNearest(int k);
+  // Keeps the point if it is among the k nearest so far; once k are kept, lowers bound2 to the k-th's.
+  // Inline: a search offers every point within its bound.
+  void offer(std::uint32_t index, double distance2, double& bound2) {
+    const auto closer = [](const KdTree::Neighbor& a, const KdTree::Neighbor& b) {
+      return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
+    };
+    const KdTree::Neighbor candidate{index, distance2};
+    if (full() && !closer(candidate, kept_.back())) return;
+    kept_.insert(std::upper_bound(kept_.begin(), kept_.end(), candidate, closer), candidate);
+    if (static_cast<int>(kept_.size()) > k_) kept_.pop_back();
+    if (full()) bound2 = kept_.back().distance2;
+  }
+  bool full() const { return static_cast<int>(kept_.size()) == k_; }
+  const std::vector<KdTree::Neighbor>& kept() const { return kept_; }
+
+ private:
+  int k_;
+  std::vector<KdTree::Neighbor> kept_;  // sorted: for the few neighbours asked for, cheaper than a heap
 };
 
 }  // namespace toolinc

@@ -31,6 +31,8 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
 Points estimate_normals(const Points& points, int k);
 // The same for one point of the tree's points (+Z when it has fewer than 3 neighbours).
 Vec3 normal_at(const KdTree& tree, const Vec3& point, int k);
+// The normal of a point's neighbours among points (+Z when fewer than 3), as normal_at finds it from them.
+Vec3 normal_of(const Points& points, const std::vector<KdTree::Neighbor>& neighbours);
 
 Points transform_points(const Points& points, const Eigen::Matrix4d& target_from_source);
 

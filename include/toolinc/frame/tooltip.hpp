@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -104,5 +105,8 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
 Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config);
 // The same with what the rule measures of the cloud kept from other frames of it, with the cache's config.
 Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame);
+// find_tooltip's position alone (nothing where it throws), without the noise, the tied points' spread and
+// the alternatives it measures around it: what the search needs of each hypothesis, at a fraction of the cost.
+std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame);
 
 }  // namespace toolinc
