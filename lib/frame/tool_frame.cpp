@@ -30,6 +30,17 @@ constexpr std::size_t kMinBarPoints = 20;  // fewer cannot pin a cylinder's axis
 // share of its width from it (a scoop's rims rise 0.1-0.3 of its width; a hoe's blade stands a head's
 // length, about its width or more, in front).
 constexpr double kBladeDepthOffset = 0.5;
+// The symmetry sweep's first pass mirrors 1 in kSweepSampleShare of the samples, and rescores with them all
+// the angles within kSweepRescoreMargin of its best: what the sweep decides lies within the doubt margin
+// (0.1) of the best, and the margin leaves twice that again for the first pass's sampling noise.
+constexpr int kSweepSampleShare = 4;
+constexpr double kSweepRescoreMargin = 0.3;
+
+// The points a symmetry scorer mirrors: the head's, or (no head: a stick) null, every point.
+const std::vector<std::uint32_t>* mirrored_points(const std::vector<std::uint32_t>& head,
+                                                  const ToolFrameConfig& config) {
+  return static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr;
+}
 
 void check_not_degenerate(const Points& input, const Points& outside, const Points& cloud, const PrincipalAxes& axes,
                           const ToolFrameConfig& config) {
@@ -549,13 +560,27 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
       // A stick: nothing on the effector side stands out from the handle's axis by more than stick-width.
       head_extent(effector_extent(cloud, principal.centroid, line, config.salience_quantile)),
       scorer(target, static_cast<std::size_t>(std::max(1, config.symmetry_samples)), config.symmetry_match_weight,
-             free_space, static_cast<int>(head.size()) >= config.min_head_points ? &head : nullptr),
+             free_space, mirrored_points(head, config)),
       step(config.symmetry_step_deg * kDeg) {
   if (u.norm() < 1e-6) u = principal.axes.col(2) - principal.axes.col(2).dot(y_axis) * y_axis;
   u.normalize();
   v = y_axis.cross(u);
-  for (double angle = 0.0; angle < M_PI - 1e-9; angle += step)
-    sweep.push_back({angle / kDeg, normal_at(angle), score_at(angle)});
+  // The sweep decides only near its best: the basins within the tie margin, the rivals within the doubt
+  // margin. So every angle is scored with a share of the samples first, and only those that come within
+  // kSweepRescoreMargin of the best that way (a margin above both and the share's noise) are scored with
+  // them all; the others keep the cheap score, far above what decides.
+  const SymmetryScorer coarse(target,
+                              static_cast<std::size_t>(std::max(1, config.symmetry_samples / kSweepSampleShare)),
+                              config.symmetry_match_weight, free_space, mirrored_points(head, config));
+  std::vector<double> angles;
+  for (double angle = 0.0; angle < M_PI - 1e-9; angle += step) angles.push_back(angle);
+  double coarse_best = std::numeric_limits<double>::infinity();
+  for (const double angle : angles) {
+    sweep.push_back({angle / kDeg, normal_at(angle), coarse.score(normal_at(angle), centre)});
+    coarse_best = std::min(coarse_best, sweep.back().score);
+  }
+  for (std::size_t k = 0; k < angles.size(); ++k)
+    if (sweep[k].score <= coarse_best + kSweepRescoreMargin) sweep[k].score = score_at(angles[k]);
   // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
   // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
   // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across

@@ -71,7 +71,9 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
           {"score_meaning",
            "over the head's mirror images that are evidence: (contradicted + symmetry-match-weight "
            "x matched distance / tolerance) / their number; 0 perfect mirror, 1 none"},
-          {"candidates_meaning", "the sweep about the handle axis, then the chosen plane"},
+          {"candidates_meaning",
+           "the sweep about the handle axis (an angle scoring 0.3 or more above its best keeps its score from a "
+           "quarter of the samples), then the chosen plane"},
           {"across_handle_score", frame.diagnostics.across_handle_score},
           {"across_handle_note",
            "the plane across the handle is never eligible: the symmetry plane contains the handle axis"},
