@@ -13,11 +13,6 @@ double huber_weight(double r, double scale) { return std::abs(r) <= scale ? 1.0 
 
 }  // namespace
 
-double radial_distance(const Cylinder& c, const Vec3& p) {
-  const Vec3 d = p - c.point;
-  return (d - d.dot(c.axis) * c.axis).norm();
-}
-
 Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale, int iterations,
                       double section_length) {
   if (points.size() < 6) return initial;

@@ -22,7 +22,11 @@ struct Cylinder {
 Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale, int iterations = 15,
                       double section_length = 0.0);
 
-// Radial distance of p from the cylinder's axis line.
-double radial_distance(const Cylinder& cylinder, const Vec3& p);
+// Radial distance of p from the cylinder's axis line. Inline: the frame's rules measure it for every point
+// of a cloud, many times over.
+inline double radial_distance(const Cylinder& cylinder, const Vec3& p) {
+  const Vec3 d = p - cylinder.point;
+  return (d - d.dot(cylinder.axis) * cylinder.axis).norm();
+}
 
 }  // namespace toolinc

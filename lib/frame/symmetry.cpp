@@ -20,7 +20,6 @@ constexpr double kCellMargin = 1e-9;
 MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_neighbors)
     : points_(points),
       tolerance_(tolerance),
-      tree_(points),
       normal_neighbors_(normal_neighbors),
       normals_(normal_neighbors > 0 ? points.size() : 0),
       normal_known_(normals_.size(), false) {
@@ -108,7 +107,9 @@ std::vector<KdTree::Neighbor> MirrorTarget::neighbours(const Vec3& point) const 
   KNearest nearest(normal_neighbors_);
   double bound2 = std::pow(cell_ * (1.0 - 2.0 * kCellMargin), 2);
   scan(point, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
-  return nearest.full() ? nearest.kept() : tree_.knn(point, normal_neighbors_);
+  if (nearest.full()) return nearest.kept();
+  if (!tree_) tree_.emplace(points_);
+  return tree_->knn(point, normal_neighbors_);
 }
 
 SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, double match_weight,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "cloud/free_space.hpp"
@@ -37,7 +38,7 @@ class MirrorTarget {
 
   const Points& points_;
   double tolerance_;
-  KdTree tree_;  // for the normals' neighbours
+  mutable std::optional<KdTree> tree_;  // for the normals' neighbours beyond a cell, built when first needed
   int normal_neighbors_;
   mutable Points normals_;  // per point, valid where normal_known_
   mutable std::vector<bool> normal_known_;
