@@ -36,6 +36,10 @@ constexpr double kBladeDepthOffset = 0.5;
 constexpr int kSweepSampleShare = 4;
 constexpr double kSweepRescoreMargin = 0.3;
 
+// A plane is refined within a sweep step either side by this many golden-section steps: they leave a
+// bracket 0.056 of the two steps wide (0.84 degrees at the default step of 7.5), the plane within half that.
+constexpr int kGoldenIterations = 6;
+
 // The points a symmetry scorer mirrors: the head's, or (no head: a stick) null, every point.
 const std::vector<std::uint32_t>* mirrored_points(const std::vector<std::uint32_t>& head,
                                                   const ToolFrameConfig& config) {
@@ -591,7 +595,8 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
   for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
     const double lowest = sweep[i].angle_deg * kDeg;
-    const auto [angle, score] = golden_minimum([&](double a) { return score_at(a); }, lowest - step, lowest + step, 8);
+    const auto [angle, score] =
+        golden_minimum([&](double a) { return score_at(a); }, lowest - step, lowest + step, kGoldenIterations);
     const Vec3 x_axis = y_axis.cross(normal_at(angle));
     const Reach r = effector_reach(cloud, principal.centroid, centre, y_axis, x_axis, config.salience_quantile);
     const bool forward = r.positive >= r.negative;
@@ -608,7 +613,8 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   // thin plate, and it often mirrors best.
   if (blade) {
     const double across = std::atan2(blade->dot(v), blade->dot(u));
-    rules_angle = golden_minimum([&](double a) { return score_at(a); }, across - step, across + step, 8).first;
+    rules_angle =
+        golden_minimum([&](double a) { return score_at(a); }, across - step, across + step, kGoldenIterations).first;
   }
   across_handle_score = scorer.score(y_axis, principal.centroid);
 }
@@ -662,7 +668,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   if (plane_angle_deg) {
     const double asked = *plane_angle_deg * kDeg;
     if (std::abs(std::remainder(asked - best_angle, M_PI)) > 1.5 * step) blade.reset();
-    best_angle = golden_minimum(score_at, asked - step, asked + step, 8).first;
+    best_angle = golden_minimum(score_at, asked - step, asked + step, kGoldenIterations).first;
   }
   // A bar's half-seen surface mirrors best across planes facing the cameras, but the bar's axis does
   // not depend on which side was seen: when the head is a bar along the chosen plane, the plane is
