@@ -31,8 +31,8 @@ class MirrorTarget {
   std::vector<KdTree::Neighbor> neighbours(const Vec3& point) const;
 
  private:
-  // Calls visit(index, squared distance) for the points within the query's cell and the 26 around it
-  // that lie within sqrt(bound2) of it, which visit may lower; bound2 at most the cells' width squared.
+  // Calls visit(index, squared distance) for points around the query, among them every one within
+  // sqrt(bound2) of it (which visit may lower); bound2 at most cell_ squared.
   template <typename Visit>
   void scan(const Vec3& query, double& bound2, Visit&& visit) const;
 
@@ -42,14 +42,16 @@ class MirrorTarget {
   int normal_neighbors_;
   mutable Points normals_;  // per point, valid where normal_known_
   mutable std::vector<bool> normal_known_;
-  // Cells of at least the tolerance's size over the points' box: a point within tolerance of an image
-  // lies in the image's cell or one of the 26 around it. Scanning those (the farther ones only while
-  // they can hold a nearer point) is cheaper than a kd-tree's descent and backtracking.
+  // Cells of at least the tolerance's size across x and y, cut into thinner slices along z, over the
+  // points' box: a point within tolerance of an image lies in the image's row of slices or one of the 8
+  // around it, within the tolerance along z. Scanning those (the farther ones only while they can hold a
+  // nearer point) is cheaper than a kd-tree's descent and backtracking.
   Vec3 low_ = Vec3::Zero();
-  double cell_ = 1.0;
+  double cell_ = 1.0;                              // across x and y
+  Eigen::Array3d size_ = Eigen::Array3d::Ones();   // of a slice along x, y, z
   Eigen::Array3i cells_ = Eigen::Array3i::Zero();  // along x, y, z
-  std::vector<std::uint32_t> cell_begin_;          // per cell, its first entry in by_cell_; one more at the end
-  std::vector<std::uint32_t> by_cell_;             // the points' indices, cell after cell
+  std::vector<std::uint32_t> cell_begin_;          // per slice, its first entry in by_cell_; one more at the end
+  std::vector<std::uint32_t> by_cell_;             // the points' indices, slice after slice
   Points cell_points_;                             // the points in by_cell_'s order, side by side in memory
 };
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <utility>
 
 #include "cloud/free_space.hpp"
 #include "frame/symmetry.hpp"
@@ -65,18 +66,19 @@ TEST(MirrorTarget, LookupsAreTheKdTreesWithTiesAndSparsePoints) {
   std::mt19937 random(5);
   std::uniform_int_distribution<int> lattice(-10, 10);
   std::uniform_real_distribution<double> u(-0.025, 0.025), far(-0.5, 0.5);
-  for (const double tolerance : {kTolerance, 0.013}) {
+  // Without the far points the cells are the tolerance's size; with them, the box's share.
+  for (const auto& [tolerance, far_points] : {std::pair{kTolerance, 0}, std::pair{0.013, 0}, std::pair{0.013, 10}}) {
     Points points;
     for (int i = 0; i < 800; ++i) points.emplace_back(lattice(random) * 0.001, lattice(random) * 0.001, 0.0);
     for (int i = 0; i < 800; ++i) points.emplace_back(u(random), u(random), u(random) / 5);
-    for (int i = 0; i < 10; ++i) points.emplace_back(far(random), far(random), far(random));
+    for (int i = 0; i < far_points; ++i) points.emplace_back(far(random), far(random), far(random));
     const int k = 6;
     const MirrorTarget target(points, tolerance, k);
     const KdTree tree(points);
     Points queries(points.begin(), points.begin() + 200);
     for (int i = 0; i < 200; ++i) queries.emplace_back(lattice(random) * 0.0025, lattice(random) * 0.0025, 0.001);
     for (int i = 0; i < 200; ++i) queries.emplace_back(1.5 * u(random), 1.5 * u(random), u(random));
-    for (int i = 0; i < 10; ++i) queries.push_back(points[1600 + i]);
+    for (int i = 0; i < far_points; ++i) queries.push_back(points[1600 + i]);
     for (const Vec3& query : queries) {
       const KdTree::Neighbor expected = tree.nearest(query, tolerance), got = target.nearest(query);
       EXPECT_EQ(got.index, expected.index);
