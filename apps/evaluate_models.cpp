@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
   toolinc::add_tooltip_options(cli, tooltip_config, rule);
   return command.run(argc, argv, [&] {
     tooltip_config.rule = toolinc::tooltip_rule_from_string(rule);
-    hand_radius = tooltip_config.hand_radius = frame_config.hand_radius;
+    toolinc::share_hand_settings(frame_config, tooltip_config);
+    hand_radius = frame_config.hand_radius;
     const toolinc::KindMap kinds = kinds_file.empty() ? toolinc::KindMap{} : toolinc::read_kind_map(kinds_file);
     const std::vector<std::string> models = toolinc::expand_model_paths(inputs);
     // The table goes to standard output, unless the JSON does.

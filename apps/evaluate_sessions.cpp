@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
     // Disparity matched over windows is fattened at depth edges.
     if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
+    toolinc::share_hand_settings(pipeline.frame, pipeline.tooltip);
     const toolinc::ExplorationGrasps drawn = toolinc::exploration_grasps_from_string(grasp);
     std::vector<toolinc::ToolFamily> families;
     for (const auto& name : family_names) families.push_back(toolinc::family_from_string(name));

@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
   return command.run(argc, argv, [&] {
     if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
+    toolinc::share_hand_settings(pipeline.frame, pipeline.tooltip);
     // The score to compare with, read before the long run so that a bad file fails at once.
     std::optional<toolinc::FrameScoreModel> other;
     if (!compare.empty()) {

@@ -44,7 +44,8 @@ py::array_t<double> points_to_array(const Points& points) {
   return array;
 }
 
-// A cloud is an (N, 3) array or a dict as read_cloud returns it (points, colors, normals, frame, viewpoints).
+// A cloud is an (N, 3) array or a dict as read_cloud returns it (points, colors, normals, frame, viewpoints,
+// views).
 PointCloud cloud_from_python(const py::handle& object, const char* what) {
   PointCloud cloud;
   if (!py::isinstance<py::dict>(object)) {
@@ -70,6 +71,12 @@ PointCloud cloud_from_python(const py::handle& object, const char* what) {
   }
   if (!cloud.normals.empty() && cloud.normals.size() != cloud.points.size())
     throw InputError("", std::string(what) + ": normals must be one per point");
+  if (dict.contains("views") && !dict["views"].is_none()) {
+    const auto views = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(dict["views"]);
+    if (!views || views.ndim() != 1 || static_cast<std::size_t>(views.shape(0)) != cloud.points.size())
+      throw InputError("", std::string(what) + ": views must be an (N,) uint32 array, one bit mask per point");
+    cloud.views.assign(views.data(), views.data() + views.shape(0));
+  }
   cloud.frame = dict.contains("frame") ? py::str(dict["frame"]).cast<std::string>() : "hand";
   return cloud;
 }
@@ -89,6 +96,10 @@ py::dict cloud_to_python(const PointCloud& cloud) {
   dict["normals"] = cloud.has_normals() ? py::object(points_to_array(cloud.normals)) : py::object(py::none());
   dict["frame"] = cloud.frame;
   dict["viewpoints"] = points_to_array(cloud.viewpoints);
+  dict["views"] =
+      cloud.has_views()
+          ? py::object(py::array_t<std::uint32_t>(static_cast<py::ssize_t>(cloud.size()), cloud.views.data()))
+          : py::object(py::none());
   return dict;
 }
 
@@ -256,12 +267,13 @@ py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, con
   add_tooltip_options(command.cli(), tooltip_config, rule);
   parse_options(command, config, kwargs);
   tooltip_config.rule = tooltip_rule_from_string(rule);
-  tooltip_config.hand_radius = frame_config.hand_radius;
+  share_hand_settings(frame_config, tooltip_config);
   const ToolFrame given = frame.is_none() ? ToolFrame{} : frame_from_python(frame);
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
   const ToolFrame used = frame.is_none() ? estimate_tool_frame(c.points, frame_config, c.viewpoints) : given;
-  return typed<TooltipResult>(tooltip_json(find_tooltip(c.points, used, tooltip_config), used, tooltip_config));
+  return typed<TooltipResult>(
+      tooltip_json(find_tooltip(c.points, used, tooltip_config, c.views), used, tooltip_config));
 }
 
 py::tuple merge_views_py(const py::list& views, const py::object& config, const py::kwargs& kwargs) {

@@ -107,4 +107,11 @@ std::size_t KdTree::count_within(const Vec3& query, double radius, std::size_t e
   return count;
 }
 
+std::vector<std::uint32_t> KdTree::within(const Vec3& query, double radius) const {
+  std::vector<std::uint32_t> found;
+  double bound2 = radius * radius;
+  search(query, bound2, [&](std::uint32_t index, double) { found.push_back(index); });
+  return found;
+}
+
 }  // namespace toolinc

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -20,15 +21,21 @@ namespace toolinc {
 namespace {
 
 // The mean of each run of points with equal keys, keyed sorted by key then index, so that the result does
-// not depend on the input's order.
+// not depend on the input's order; with masks, each run's union of them in voxel_masks.
 template <typename Key>
-Points voxel_means(const std::vector<std::pair<Key, std::uint32_t>>& keyed, const Points& points) {
+Points voxel_means(const std::vector<std::pair<Key, std::uint32_t>>& keyed, const Points& points,
+                   const std::vector<std::uint32_t>* masks, std::vector<std::uint32_t>* voxel_masks) {
   Points out;
   for (std::size_t begin = 0; begin < keyed.size();) {
     std::size_t end = begin;
     Vec3 sum = Vec3::Zero();
-    for (; end < keyed.size() && keyed[end].first == keyed[begin].first; ++end) sum += points[keyed[end].second];
+    std::uint32_t mask = 0;
+    for (; end < keyed.size() && keyed[end].first == keyed[begin].first; ++end) {
+      sum += points[keyed[end].second];
+      if (masks) mask |= (*masks)[keyed[end].second];
+    }
     out.push_back(sum / static_cast<double>(end - begin));
+    if (voxel_masks) voxel_masks->push_back(mask);
     begin = end;
   }
   return out;
@@ -50,9 +57,9 @@ void radix_sort(std::vector<std::pair<std::uint64_t, std::uint32_t>>& keyed, std
   }
 }
 
-}  // namespace
-
-Points voxel_downsample(const Points& points, double voxel_size) {
+// voxel_downsample, with the voxels' masks when masks are given.
+Points downsample(const Points& points, double voxel_size, const std::vector<std::uint32_t>* masks,
+                  std::vector<std::uint32_t>* voxel_masks) {
   using Cell = Eigen::Matrix<std::int64_t, 3, 1>;
   std::vector<Cell> cells(points.size());
   Cell lo = Cell::Constant(std::numeric_limits<std::int64_t>::max()), hi = -lo;
@@ -79,12 +86,25 @@ Points voxel_downsample(const Points& points, double voxel_size) {
       max_key = std::max(max_key, keyed[i].first);
     }
     radix_sort(keyed, max_key);
-    return voxel_means(keyed, points);
+    return voxel_means(keyed, points, masks, voxel_masks);
   }
   std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> keyed(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) keyed[i] = {{cells[i].x(), cells[i].y(), cells[i].z()}, i};
   std::sort(keyed.begin(), keyed.end());
-  return voxel_means(keyed, points);
+  return voxel_means(keyed, points, masks, voxel_masks);
+}
+
+}  // namespace
+
+Points voxel_downsample(const Points& points, double voxel_size) {
+  return downsample(points, voxel_size, nullptr, nullptr);
+}
+
+Points voxel_downsample(const Points& points, double voxel_size, const std::vector<std::uint32_t>& masks,
+                        std::vector<std::uint32_t>& voxel_masks) {
+  if (masks.size() != points.size()) throw std::invalid_argument("voxel_downsample: one mask per point needed");
+  voxel_masks.clear();
+  return downsample(points, voxel_size, &masks, &voxel_masks);
 }
 
 Points remove_within(const Points& points, const Vec3& center, double radius) {
@@ -97,12 +117,82 @@ Points remove_within(const Points& points, const Vec3& center, double radius) {
 }
 
 Points remove_isolated(const Points& points, double radius, std::size_t min_neighbors) {
-  const KdTree tree(points);
   Points out;
-  out.reserve(points.size());
-  for (const auto& p : points)  // the point itself is counted by the tree, hence the + 1
-    if (tree.count_within(p, radius, min_neighbors + 1) >= min_neighbors + 1) out.push_back(p);
+  for (const auto i : non_isolated(points, radius, min_neighbors)) out.push_back(points[i]);
   return out;
+}
+
+std::vector<std::uint32_t> non_isolated(const Points& points, double radius, std::size_t min_neighbors) {
+  const KdTree tree(points);
+  std::vector<std::uint32_t> kept;
+  kept.reserve(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i)  // the point itself is counted by the tree, hence the + 1
+    if (tree.count_within(points[i], radius, min_neighbors + 1) >= min_neighbors + 1) kept.push_back(i);
+  return kept;
+}
+
+HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
+  HeldPiece held;
+  const double hand_r2 = hand_radius * hand_radius;
+  std::vector<std::uint32_t> beyond;
+  for (std::uint32_t i = 0; i < points.size(); ++i)
+    if (points[i].squaredNorm() > hand_r2) beyond.push_back(i);
+  if (gap <= 0.0 || beyond.empty()) {
+    held.indices = std::move(beyond);
+    return held;
+  }
+  // The pieces are joined on a grid an eighth of the gap fine, between the means of its cells: a dense
+  // reconstruction has thousands of points within a gap of each, its cells a few hundred.
+  const double cell_size = gap / 8.0;
+  std::map<std::array<std::int64_t, 3>, std::uint32_t> cell_of_key;
+  std::vector<std::uint32_t> cell(points.size());
+  Points sums;
+  std::vector<int> counts;
+  for (const auto i : beyond) {
+    const Eigen::Vector3d c = (points[i] / cell_size).array().floor();
+    if (!(c.cwiseAbs().maxCoeff() < 0x1p62))
+      throw std::invalid_argument(fmt::format("piece gap {} m is too small for a point at ({}, {}, {}) m", gap,
+                                              points[i].x(), points[i].y(), points[i].z()));
+    const auto [it, added] = cell_of_key.try_emplace(
+        {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())},
+        static_cast<std::uint32_t>(sums.size()));
+    if (added) sums.push_back(Vec3::Zero()), counts.push_back(0);
+    cell[i] = it->second;
+    sums[it->second] += points[i];
+    ++counts[it->second];
+  }
+  Points means(sums.size());
+  for (std::size_t c = 0; c < sums.size(); ++c) means[c] = sums[c] / counts[c];
+  // Each piece flooded from its first cell in the points' order, so the pieces do not depend on the tree's.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  const KdTree tree(means);
+  std::vector<std::uint32_t> piece(means.size(), kNone), stack;
+  std::uint32_t pieces = 0;
+  for (const auto i : beyond) {
+    if (piece[cell[i]] != kNone) continue;
+    piece[cell[i]] = pieces;
+    stack.push_back(cell[i]);
+    while (!stack.empty()) {
+      const std::uint32_t c = stack.back();
+      stack.pop_back();
+      for (const auto d : tree.within(means[c], gap))
+        if (piece[d] == kNone) piece[d] = pieces, stack.push_back(d);
+    }
+    ++pieces;
+  }
+  std::vector<double> nearest(pieces, std::numeric_limits<double>::infinity());  // from the hand
+  std::vector<int> sizes(pieces, 0);
+  for (const auto i : beyond) {
+    const std::uint32_t p = piece[cell[i]];
+    nearest[p] = std::min(nearest[p], points[i].norm());
+    ++sizes[p];
+  }
+  const double reach = *std::min_element(nearest.begin(), nearest.end()) + gap;
+  for (const auto i : beyond)
+    if (nearest[piece[cell[i]]] <= reach) held.indices.push_back(i);
+  for (std::uint32_t p = 0; p < pieces; ++p)
+    if (nearest[p] > reach) held.detached_points += sizes[p], ++held.detached_pieces;
+  return held;
 }
 
 std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, double std_multiplier) {

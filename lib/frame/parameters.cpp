@@ -12,6 +12,10 @@ const std::vector<Parameter<ToolFrameConfig>>& tool_frame_parameters() {
   static const std::vector<Parameter<ToolFrameConfig>> table{
       {"hand-radius", "m", "Points this close to the hand origin are the hand's", &F::hand_radius, 0, kClosed,
        kMaxLength},
+      {"piece-gap", "m",
+       "Points at most this far apart are one piece; pieces not joined to the one the hand holds are not the tool "
+       "(0: no split)",
+       &F::piece_gap, 0, kClosed, kMaxLength},
       {"voxel-size", "m", "Resampling voxel for density-independent statistics", &F::voxel_size, kMinLength, kClosed,
        kMaxLength},
       {"isolated-radius", "m", "Resampled points with fewer than isolated-min-neighbors others within this are stray",

@@ -51,8 +51,8 @@ void check_not_degenerate(const Points& input, const Points& outside, const Poin
   if (!input.empty() && outside.empty())
     throw MethodError(fmt::format("all {} points lie within the hand radius ({} m)", input.size(), config.hand_radius));
   if (static_cast<int>(outside.size()) < config.min_points)
-    throw MethodError(fmt::format("too few points: {} outside the hand radius, at least {} needed", outside.size(),
-                                  config.min_points));
+    throw MethodError(fmt::format("too few points: {} outside the hand radius and joined to it, at least {} needed",
+                                  outside.size(), config.min_points));
   if (cloud.size() < 10) throw MethodError(fmt::format("too few points after removing stray points: {}", cloud.size()));
   double lo = 0.0, hi = 0.0;
   for (const auto& p : cloud) {
@@ -807,9 +807,10 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   return frame;
 }
 
-// The cloud as every method uses it: the hand's points removed, resampled, stray points dropped; its
-// principal axes; and the frame's record of it.
+// The cloud as every method uses it: the pieces the hand holds (not the hand, nor what it does not hold),
+// resampled, stray points dropped; its principal axes; and the frame's record of it.
 struct Prepared {
+  HeldPiece held;
   Points cloud;
   PrincipalAxes principal;
   ToolFrame frame;
@@ -818,14 +819,19 @@ Prepared prepare(const Points& input, const ToolFrameConfig& config) {
   if (config.handle_hand_skip >= config.handle_fraction)
     throw std::invalid_argument("handle-hand-skip must be below handle-fraction: nothing would be left to fit");
   Prepared p;
-  const Points outside = remove_within(input, Vec3::Zero(), config.hand_radius);
-  p.cloud = outside.empty() ? Points{}
-                            : remove_isolated(voxel_downsample(outside, config.voxel_size), config.isolated_radius,
-                                              config.isolated_min_neighbors);
+  p.held = held_piece(input, config.hand_radius, config.piece_gap);
+  Points held;
+  held.reserve(p.held.indices.size());
+  for (const auto i : p.held.indices) held.push_back(input[i]);
+  p.cloud = held.empty() ? Points{}
+                         : remove_isolated(voxel_downsample(held, config.voxel_size), config.isolated_radius,
+                                           config.isolated_min_neighbors);
   p.principal = principal_axes(p.cloud);
-  check_not_degenerate(input, outside, p.cloud, p.principal, config);
+  check_not_degenerate(input, held, p.cloud, p.principal, config);
   p.frame.diagnostics.points_input = static_cast<int>(input.size());
-  p.frame.diagnostics.points_outside_hand = static_cast<int>(outside.size());
+  p.frame.diagnostics.points_outside_hand = static_cast<int>(held.size()) + p.held.detached_points;
+  p.frame.diagnostics.points_detached = p.held.detached_points;
+  p.frame.diagnostics.pieces_detached = p.held.detached_pieces;
   p.frame.diagnostics.points_used = static_cast<int>(p.cloud.size());
   p.frame.diagnostics.centroid = p.principal.centroid;
   p.frame.diagnostics.principal = p.principal.axes;
@@ -963,9 +969,9 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   const FreeSpace* seen = viewpoints.empty() ? nullptr : &free_space;
   const Points held = held_part(p.cloud, config.held_share);
   TooltipConfig tooltip_config;
-  tooltip_config.hand_radius = config.hand_radius;
+  share_hand_settings(config, tooltip_config);
   const KdTree tree(input);
-  const TooltipCache tooltip_cache(input, tree, tooltip_config);  // shared by every hypothesis's tooltip
+  const TooltipCache tooltip_cache(input, tree, tooltip_config, p.held);  // shared by every hypothesis's tooltip
   // The hand holds the handle: a candidate whose line passes beyond grasp-reach from it is no hypothesis,
   // unless every candidate does.
   auto candidates = handle_candidates(p.cloud, p.principal, config);

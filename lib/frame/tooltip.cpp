@@ -5,8 +5,11 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
@@ -22,6 +25,11 @@ TooltipRule tooltip_rule_from_string(const std::string& name) {
 }
 
 std::string to_string(TooltipRule rule) { return rule == TooltipRule::furthest ? "furthest" : "weighted"; }
+
+void share_hand_settings(const ToolFrameConfig& frame, TooltipConfig& tooltip) {
+  tooltip.hand_radius = frame.hand_radius;
+  tooltip.piece_gap = frame.piece_gap;
+}
 
 namespace {
 
@@ -191,16 +199,33 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
   return edges;
 }
 
+// A tip that one view alone saw, in a cloud that several saw, is backed by nothing else: a blob may take
+// in a patch of the scene behind the tool that no other view looks at, and then the tip goes onto it.
+void check_seen_by_several(Tooltip& tip, const KdTree& tree, const std::vector<std::uint32_t>& views,
+                           const TooltipConfig& config) {
+  if (views.size() != tree.points().size())
+    throw std::invalid_argument("find_tooltip: views must be empty or one per point");
+  std::uint32_t in_cloud = 0, at_tip = 0;
+  for (const auto v : views) in_cloud |= v;
+  for (const auto i : tree.within(tip.surface_point, config.density_radius)) at_tip |= views[i];
+  tip.views_in_cloud = static_cast<int>(std::bitset<32>(in_cloud).count());
+  tip.views_at_tip = static_cast<int>(std::bitset<32>(at_tip).count());
+  if (tip.views_in_cloud > 1)
+    tip.confidence.check(tip.views_at_tip > 1 ? 1.0 : 0.0,
+                         fmt::format("the tip's points (within density-radius, {:.0f} mm) were seen by one view only "
+                                     "of the {} that saw the cloud: nothing else backs it",
+                                     1000 * config.density_radius, tip.views_in_cloud));
+}
+
 }  // namespace
 
 TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config)
-    : points_(points), tree_(tree), config_(config), dense_(points.size(), -1) {
-  const double hand_r2 = config.hand_radius * config.hand_radius;
+    : TooltipCache(points, tree, config, held_piece(points, config.hand_radius, config.piece_gap)) {}
+
+TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held)
+    : points_(points), tree_(tree), config_(config), held_(std::move(held)), dense_(points.size(), -1) {
   from_hand_.reserve(points.size());
-  for (std::uint32_t i = 0; i < points.size(); ++i) {
-    from_hand_.push_back(points[i].norm());
-    if (points[i].squaredNorm() > hand_r2) beyond_hand_.push_back(i);
-  }
+  for (const auto& p : points) from_hand_.push_back(p.norm());
 }
 
 bool TooltipCache::dense(std::uint32_t index) const {
@@ -228,12 +253,14 @@ double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction
   return config.fringe_depth;
 }
 
-Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config) {
-  return find_tooltip(points, KdTree(points), frame, config);
+Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config,
+                     const std::vector<std::uint32_t>& views) {
+  return find_tooltip(points, KdTree(points), frame, config, views);
 }
 
-Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config) {
-  return find_tooltip(TooltipCache(points, tree, config), frame);
+Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config,
+                     const std::vector<std::uint32_t>& views) {
+  return find_tooltip(TooltipCache(points, tree, config), frame, views);
 }
 
 std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame) {
@@ -244,7 +271,7 @@ std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame&
   return edges_on_plane(cache.points(), frame, {cache.points()[p.chosen]}, cache.config())[0];
 }
 
-Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
+Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame, const std::vector<std::uint32_t>& views) {
   const Points& points = cache.points();
   const KdTree& tree = cache.tree();
   const TooltipConfig& config = cache.config();
@@ -258,6 +285,8 @@ Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
   tip.candidates = p.candidates;
   tip.rejected_sparse = p.rejected_sparse;
   tip.tied = static_cast<int>(p.tied.size());
+  tip.detached_points = cache.held().detached_points;
+  tip.detached_pieces = cache.held().detached_pieces;
   tip.surface_point = points[p.chosen];
   tip.score = p.score;
   // Uncertainty: the tied points whose tie-break is within 2 sigma of the best could as well have won
@@ -323,6 +352,7 @@ Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
                        fmt::format("another tip {:.0f} mm away scores as well (a tied point, a tied or rival symmetry "
                                    "plane, the other effector side), beyond ambiguity-distance ({:.0f} mm)",
                                    1000 * farthest, 1000 * config.ambiguity_distance));
+  if (!views.empty()) check_seen_by_several(tip, tree, views, config);
   return tip;
 }
 

@@ -121,7 +121,7 @@ namespace {
 
 bool looks_like_ply(std::string_view data) { return data.substr(0, 4) == "ply\n" || data.substr(0, 5) == "ply\r\n"; }
 
-// Compacts the cloud to its finite points (with their colours and normals); returns how many went.
+// Compacts the cloud to its finite points (with their colours, normals and views); returns how many went.
 std::size_t drop_non_finite(PointCloud& cloud) {
   const std::size_t n = cloud.size();
   std::size_t kept = 0;
@@ -131,12 +131,14 @@ std::size_t drop_non_finite(PointCloud& cloud) {
       cloud.points[kept] = cloud.points[i];
       if (cloud.has_colors()) cloud.colors[kept] = cloud.colors[i];
       if (cloud.has_normals()) cloud.normals[kept] = cloud.normals[i];
+      if (cloud.has_views()) cloud.views[kept] = cloud.views[i];
     }
     ++kept;
   }
   cloud.points.resize(kept);
   if (cloud.has_colors()) cloud.colors.resize(kept);
   if (cloud.has_normals()) cloud.normals.resize(kept);
+  if (cloud.has_views()) cloud.views.resize(kept);
   return n - kept;
 }
 

@@ -42,7 +42,7 @@ struct PlyHeader {
 };
 
 // What a vertex property means to us; kNone for properties we skip.
-enum Role { kX, kY, kZ, kRed, kGreen, kBlue, kNx, kNy, kNz, kRoleCount };
+enum Role { kX, kY, kZ, kRed, kGreen, kBlue, kNx, kNy, kNz, kViews, kRoleCount };
 constexpr int kNone = kRoleCount;
 
 bool ply_scalar(std::string_view name, ScalarType& type) {
@@ -161,7 +161,7 @@ PlyHeader parse_header(const std::string& path, std::string_view data) {
 
 // Colours may also be named diffuse_red, diffuse_green, diffuse_blue.
 int role_of(std::string_view name) {
-  static const std::string_view kNames[kRoleCount] = {"x", "y", "z", "red", "green", "blue", "nx", "ny", "nz"};
+  static const std::string_view kNames[kRoleCount] = {"x", "y", "z", "red", "green", "blue", "nx", "ny", "nz", "views"};
   const bool diffuse = name.substr(0, 8) == "diffuse_";
   if (diffuse) name.remove_prefix(8);
   for (int role = 0; role < kRoleCount; ++role) {
@@ -177,6 +177,7 @@ struct VertexLayout {
   bool xyz = false;
   bool colors = false;
   bool normals = false;
+  bool views = false;
 };
 
 VertexLayout vertex_layout(const PlyElement& vertex) {
@@ -193,6 +194,7 @@ VertexLayout vertex_layout(const PlyElement& vertex) {
   layout.xyz = present[kX] && present[kY] && present[kZ];
   layout.colors = present[kRed] && present[kGreen] && present[kBlue];
   layout.normals = present[kNx] && present[kNy] && present[kNz];
+  layout.views = present[kViews];
   return layout;
 }
 
@@ -203,7 +205,11 @@ std::uint8_t to_color(double value, double scale) {
   return static_cast<std::uint8_t>(std::min(scaled, 255.0));
 }
 
-void append_vertex(const VertexLayout& layout, const double* values, PointCloud& cloud) {
+// False when the vertex's views are no bit mask (a whole number below 2^32).
+bool append_vertex(const VertexLayout& layout, const double* values, PointCloud& cloud) {
+  if (layout.views &&
+      !(values[kViews] >= 0.0 && values[kViews] < 0x1p32 && values[kViews] == std::floor(values[kViews])))
+    return false;
   cloud.points.emplace_back(values[kX], values[kY], values[kZ]);
   if (layout.colors) {
     cloud.colors.push_back({to_color(values[kRed], layout.color_scale[0]),
@@ -211,6 +217,8 @@ void append_vertex(const VertexLayout& layout, const double* values, PointCloud&
                             to_color(values[kBlue], layout.color_scale[2])});
   }
   if (layout.normals) cloud.normals.emplace_back(values[kNx], values[kNy], values[kNz]);
+  if (layout.views) cloud.views.push_back(static_cast<std::uint32_t>(values[kViews]));
+  return true;
 }
 
 // A list length must be a whole, non-negative number.
@@ -323,6 +331,7 @@ void read_body(const std::string& path, Source& source, const PlyHeader& header,
       cloud.points.reserve(std::min(element.count, body_bytes / min_record_bytes(element, header.format)));
       if (layout.colors) cloud.colors.reserve(cloud.points.capacity());
       if (layout.normals) cloud.normals.reserve(cloud.points.capacity());
+      if (layout.views) cloud.views.reserve(cloud.points.capacity());
     }
     double values[kRoleCount] = {};
     for (std::size_t k = 0; k < element.count; ++k) {
@@ -330,7 +339,9 @@ void read_body(const std::string& path, Source& source, const PlyHeader& header,
         throw InputError(path, "truncated: expected " + std::to_string(element.count) + " " + plural(element.name) +
                                    ", file ends at " + element.name + " " + std::to_string(k));
       }
-      if (is_vertex) append_vertex(layout, values, cloud);
+      if (is_vertex && !append_vertex(layout, values, cloud))
+        throw InputError(path, "vertex " + std::to_string(k) + ": views " + fmt::format("{}", values[kViews]) +
+                                   " is no bit mask of views (a whole number from 0 to 2^32 - 1)");
     }
   }
 }
@@ -384,6 +395,7 @@ std::string ply_header(const PointCloud& cloud, const PlyWriteOptions& options) 
   header += "property float x\nproperty float y\nproperty float z\n";
   if (cloud.has_colors()) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (cloud.has_normals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (cloud.has_views()) header += "property uint views\n";
   header += "end_header\n";
   return header;
 }
@@ -404,6 +416,12 @@ void append_binary(const PointCloud& cloud, std::string& out) {
     if (cloud.has_normals()) {
       for (int axis = 0; axis < 3; ++axis) append_float_le(out, cloud.normals[i][axis], swap);
     }
+    if (cloud.has_views()) {
+      char bytes[sizeof(std::uint32_t)];
+      std::memcpy(bytes, &cloud.views[i], sizeof bytes);
+      if (swap) std::reverse(std::begin(bytes), std::end(bytes));
+      out.append(bytes, sizeof bytes);
+    }
   }
 }
 
@@ -422,6 +440,7 @@ void append_ascii(const PointCloud& cloud, std::string& out) {
       const Vec3& m = cloud.normals[i];
       n += std::snprintf(line + n, sizeof line - n, " %.9g %.9g %.9g", f(m.x()), f(m.y()), f(m.z()));
     }
+    if (cloud.has_views()) n += std::snprintf(line + n, sizeof line - n, " %u", unsigned{cloud.views[i]});
     out.append(line, static_cast<std::size_t>(n));
     out += '\n';
   }
@@ -431,8 +450,9 @@ void append_ascii(const PointCloud& cloud, std::string& out) {
 
 void write_ply(const std::string& path, const PointCloud& cloud, const PlyWriteOptions& options) {
   if ((cloud.has_colors() && cloud.colors.size() != cloud.size()) ||
-      (cloud.has_normals() && cloud.normals.size() != cloud.size())) {
-    throw std::invalid_argument("write_ply: colours or normals do not match the points in number");
+      (cloud.has_normals() && cloud.normals.size() != cloud.size()) ||
+      (cloud.has_views() && cloud.views.size() != cloud.size())) {
+    throw std::invalid_argument("write_ply: colours, normals or views do not match the points in number");
   }
   std::string out = ply_header(cloud, options);
   if (options.ascii) {

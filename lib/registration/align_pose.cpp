@@ -275,11 +275,14 @@ Pose pin_far_end(const PoseModel& model, const Points& view, const std::vector<d
 namespace {
 
 // The frames the pose starts from: the rules' handle and planes, whose guesses the pose's evaluation
-// (evaluate-poses) measured; the search picks a tooltip, not a pose's start.
+// (evaluate-poses) measured; the search picks a tooltip, not a pose's start. Every piece counts: one
+// partial view leaves long stretches of the tool unseen (a handle behind its head), so what lies apart
+// from the part nearest the hand is still the tool.
 ToolFrameConfig handle_guess_frame_config(const AlignPoseConfig& config) {
   ToolFrameConfig frame_config;
   frame_config.method = FrameMethod::rules;
   frame_config.hand_radius = config.hand_radius;
+  frame_config.piece_gap = 0.0;
   return frame_config;
 }
 

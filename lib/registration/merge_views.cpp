@@ -25,8 +25,10 @@ int accepted_views(const MergeResult& result) {
 // the sensor's ray between the tool and what lies behind it. Another view, looking across that ray, sees
 // the tool farther on through where those points would be, and has no point near them: its own surface
 // there would have been seen by both. A point another view saw through but also saw (a thin part one
-// view resolves and another misses) stays. Counts the dropped points per view.
-Points drop_smear(const std::vector<PointCloud>& aligned, std::vector<ViewMerge>& merges, const MergeConfig& config) {
+// view resolves and another misses) stays. Counts the dropped points per view; the kept points' views
+// (when the views carry them) go to kept_views.
+Points drop_smear(const std::vector<PointCloud>& aligned, std::vector<ViewMerge>& merges, const MergeConfig& config,
+                  std::vector<std::uint32_t>& kept_views) {
   const double tolerance = config.see_through_tolerance;
   std::vector<FreeSpace> depth_images;  // each view's own; a rejected view has no points, so none
   std::vector<std::unique_ptr<KdTree>> trees;
@@ -44,13 +46,16 @@ Points drop_smear(const std::vector<PointCloud>& aligned, std::vector<ViewMerge>
     return seen_through;
   };
   Points kept;
+  kept_views.clear();
   for (std::size_t a = 0; a < aligned.size(); ++a) {
     if (!merges[a].accepted) continue;
-    for (const auto& p : aligned[a].points) {
-      if (smear(a, p))
+    for (std::size_t i = 0; i < aligned[a].points.size(); ++i) {
+      if (smear(a, aligned[a].points[i])) {
         ++merges[a].smear_dropped;
-      else
-        kept.push_back(p);
+      } else {
+        kept.push_back(aligned[a].points[i]);
+        if (aligned[a].has_views()) kept_views.push_back(aligned[a].views[i]);
+      }
     }
   }
   return kept;
@@ -63,6 +68,7 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
                                   config.min_points));
   MergeResult result;
   Points accumulated = views[0].points;
+  std::vector<std::uint32_t> accumulated_views = views[0].views;  // the views that saw them, when labelled
   std::vector<PointCloud> aligned(views.size());  // the accepted views in the reference view's frame, the
                                                   // rejected ones empty
   aligned[0] = views[0];
@@ -112,7 +118,9 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
       merge.reason = "aligned";
       aligned[v].points = transform_points(views[v].points, icp.target_from_source);
       aligned[v].viewpoints = transform_points(views[v].viewpoints, icp.target_from_source);
+      aligned[v].views = views[v].views;
       accumulated.insert(accumulated.end(), aligned[v].points.begin(), aligned[v].points.end());
+      accumulated_views.insert(accumulated_views.end(), views[v].views.begin(), views[v].views.end());
     }
     result.views.push_back(merge);
     report_progress();
@@ -140,10 +148,16 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
   mean_frame.topRightCorner<3, 1>() = translation_sum / accepted;
   result.hand_from_reference = inverse(mean_frame);
   result.model.frame = "hand";
-  if (config.see_through_tolerance > 0) accumulated = drop_smear(aligned, result.views, config);
-  result.model.points =
-      remove_isolated(voxel_downsample(transform_points(accumulated, result.hand_from_reference), config.voxel_size),
-                      config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors));
+  if (config.see_through_tolerance > 0) accumulated = drop_smear(aligned, result.views, config, accumulated_views);
+  std::vector<std::uint32_t> voxel_views;
+  const Points moved = transform_points(accumulated, result.hand_from_reference);
+  const Points voxels = accumulated_views.empty()
+                            ? voxel_downsample(moved, config.voxel_size)
+                            : voxel_downsample(moved, config.voxel_size, accumulated_views, voxel_views);
+  for (const auto i : non_isolated(voxels, config.clean_radius, static_cast<std::size_t>(config.clean_min_neighbors))) {
+    result.model.points.push_back(voxels[i]);
+    if (!voxel_views.empty()) result.model.views.push_back(voxel_views[i]);
+  }
   for (const auto& view : aligned) {
     const Points moved = transform_points(view.viewpoints, result.hand_from_reference);
     result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());
@@ -153,8 +167,15 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
 
 }  // namespace
 
-MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config) {
-  if (views.empty()) throw MethodError("no views to merge");
+MergeResult merge_views(const std::vector<PointCloud>& input, const MergeConfig& config) {
+  if (input.empty()) throw MethodError("no views to merge");
+  // Each view's points labelled with its bit, so the model says which views saw each of its points.
+  std::vector<PointCloud> views = input;
+  for (std::size_t v = 0; v < views.size(); ++v)
+    if (views.size() <= kMaxLabelledViews)
+      views[v].views.assign(views[v].size(), std::uint32_t{1} << v);
+    else
+      views[v].views.clear();
   MergeResult best = merge_onto_first(views, config);
   // A reference that most views do not fit (a wrong blob, a gross pose error) loses the good views with
   // it: then the reference is the view that the most others fit, the earliest of equals.

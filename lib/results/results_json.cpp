@@ -55,6 +55,8 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
        {{"points",
          {{"input", frame.diagnostics.points_input},
           {"outside_hand", frame.diagnostics.points_outside_hand},
+          {"detached", frame.diagnostics.points_detached},
+          {"detached_pieces", frame.diagnostics.pieces_detached},
           {"used", frame.diagnostics.points_used},
           {"handle", frame.diagnostics.handle_points}}},
         {"centroid", to_json(frame.diagnostics.centroid)},
@@ -317,6 +319,10 @@ Json tooltip_json(const Tooltip& tooltip, const ToolFrame& frame, const TooltipC
         {"score", tooltip.score},
         {"candidates", tooltip.candidates},
         {"rejected_sparse", tooltip.rejected_sparse},
+        {"detached_points", tooltip.detached_points},
+        {"detached_pieces", tooltip.detached_pieces},
+        {"views_in_cloud", tooltip.views_in_cloud},
+        {"views_at_tip", tooltip.views_at_tip},
         {"edge_retreat_m", tooltip.edge_retreat_m}}},
   };
 }

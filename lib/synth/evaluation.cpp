@@ -21,13 +21,14 @@ namespace {
 
 // estimate-frame and find-tooltip on `cloud`, compared with the truth (the tooltip also with the truth
 // as the cloud has the tool, `relative`).
-HeldToolErrors frame_and_tooltip_errors(const Points& cloud, const Points& viewpoints, const ToolGroundTruth& truth,
+HeldToolErrors frame_and_tooltip_errors(const PointCloud& observed, const ToolGroundTruth& truth,
                                         const ToolGroundTruth& relative, const ToolFrameConfig& frame_config,
                                         const TooltipConfig& tooltip_config) {
   HeldToolErrors errors;
+  const Points& cloud = observed.points;
   try {
-    const ToolFrame frame = estimate_tool_frame(cloud, frame_config, viewpoints);
-    const Tooltip tip = find_tooltip(cloud, frame, tooltip_config);
+    const ToolFrame frame = estimate_tool_frame(cloud, frame_config, observed.viewpoints);
+    const Tooltip tip = find_tooltip(cloud, frame, tooltip_config, observed.views);
     errors.right_handed = is_rotation(frame.axes, 1e-9);
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
@@ -60,7 +61,7 @@ HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry
                                   const ToolFrameConfig& frame_config, const TooltipConfig& tooltip_config) {
   const Points observed = observe_in_hand(canonical, grasp, hand_radius, noise_sigma, rng);
   const ToolGroundTruth truth = tool_ground_truth(canonical, symmetry, tip, grasp);
-  return frame_and_tooltip_errors(observed, {}, truth, truth, frame_config, tooltip_config);
+  return frame_and_tooltip_errors({observed, {}, {}, "hand", {}, {}}, truth, truth, frame_config, tooltip_config);
 }
 
 Points true_surface(const SessionSimulatorConfig& session) {
@@ -119,8 +120,7 @@ SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, c
   }
   errors.model = distance_profile(m.merged.model.points, transform_points(m.canonical, config.hand_from_canonical));
   errors.model_median_m = errors.model.median_m;
-  errors.tool = frame_and_tooltip_errors(m.merged.model.points, m.merged.model.viewpoints, m.truth, m.relative,
-                                         pipeline.frame, pipeline.tooltip);
+  errors.tool = frame_and_tooltip_errors(m.merged.model, m.truth, m.relative, pipeline.frame, pipeline.tooltip);
   errors.merged = std::move(m.merged.model.points);
   return errors;
 }

@@ -3,14 +3,17 @@
 // directions, the hand removed, sigma 1.5 mm noise, and each view's hand pose off by N(0, 3 mm) per
 // axis and N(0, 1.5 deg) as the robot's kinematics are.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <filesystem>
 
 #include "support/synthetic_cases.hpp"
 #include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/io/cloud_io.hpp"
 #include "toolinc/registration/merge_views.hpp"
 
 using namespace toolinc;
@@ -146,4 +149,37 @@ TEST(MergeViews, PointsAnotherViewSawThroughAreSmear) {
   first.viewpoints.clear();
   second.viewpoints.clear();
   EXPECT_EQ(above_plate(merged_points({first, second}).first), 5);
+}
+
+// Which views saw each point of the model: every point carries the bit of at least one accepted view and
+// none of the rejected one's; every accepted view's bit is somewhere; and a PLY round trip, binary and
+// ASCII, gives the labels back.
+TEST(MergeViews, ViewLabelsSurviveTheMergeAndAPlyRoundTrip) {
+  const auto held = make_held_tool(ToolFamily::hoe, 41);
+  Rng rng(71);
+  std::vector<PointCloud> views;
+  for (std::size_t k = 0; k < kViewDirections.size(); ++k) {
+    Eigen::Matrix4d error = perturbation(rng, 0.003, 1.5);
+    if (k == 2) error = error * rigid(60, Vec3(1, 1, 2), Vec3::Zero());  // a gross error: rejected
+    views.push_back(partial_view(held.model, held.grasp, kViewDirections[k].normalized(), error, rng));
+  }
+  const MergeResult merged = merge_views(views);
+  ASSERT_FALSE(merged.views[2].accepted);
+  ASSERT_EQ(merged.model.views.size(), merged.model.size());
+  std::uint32_t seen = 0;
+  for (const auto v : merged.model.views) {
+    EXPECT_NE(v, 0u);
+    seen |= v;
+  }
+  EXPECT_EQ(seen, 0b11011u);
+  const auto dir = std::filesystem::temp_directory_path() / ("toolinc_view_labels_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  for (const bool ascii : {false, true}) {
+    const std::string path = (dir / (ascii ? "model_ascii.ply" : "model.ply")).string();
+    write_ply(path, merged.model, {ascii, "test"});
+    const PointCloud back = read_cloud(path);
+    EXPECT_EQ(back.views, merged.model.views) << path;
+    EXPECT_EQ(back.size(), merged.model.size()) << path;
+  }
+  std::filesystem::remove_all(dir);
 }

@@ -287,9 +287,15 @@ TEST(ToolFrameAccuracy, IsolatedOutlierIsNeverTheTooltip) {
   const Tooltip clean = find_tooltip(held.observed, frame);
   const Vec3 outlier = clean.position + 0.05 * frame.effector_axis();
   held.observed.push_back(outlier);
+  // 5 cm off the tool it is joined to it (piece-gap), and the density check rejects it.
   const Tooltip with_outlier = find_tooltip(held.observed, frame);
   EXPECT_LT((with_outlier.position - clean.position).norm(), 1e-9);
   EXPECT_GE(with_outlier.rejected_sparse, 1);
+  // 20 cm off it is a piece of its own: not the tool.
+  held.observed.back() = clean.position + 0.2 * frame.effector_axis();
+  const Tooltip far = find_tooltip(held.observed, frame);
+  EXPECT_LT((far.position - clean.position).norm(), 1e-9);
+  EXPECT_EQ(far.detached_points, 1);
 }
 
 TEST(ToolFrameAccuracy, HandleThickerThanTheHandHoldsIsDoubtful) {

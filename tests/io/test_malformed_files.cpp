@@ -110,6 +110,16 @@ TEST_F(MalformedCloud, BadAsciiNumberNamesTheLine) {
   expect_read_error(file, "five");
 }
 
+TEST_F(MalformedCloud, ViewsThatAreNoBitMaskNameTheVertex) {
+  for (const char* value : {"-1", "1.5", "4294967296"}) {
+    const std::string file = write("views.ply",
+                                   "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                                   "property float z\nproperty double views\nend_header\n1 2 3 1\n4 5 6 " +
+                                       std::string(value) + "\n");
+    expect_read_error(file, "vertex 1: views");
+  }
+}
+
 TEST_F(MalformedCloud, BadPcdHeadersAreInputErrors) {
   expect_read_error(write("kind.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA foo\n"), "DATA");
   expect_read_error(write("size.pcd", "FIELDS x y z\nSIZE 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 3\n"), "SIZE");

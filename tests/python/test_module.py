@@ -111,6 +111,8 @@ def test_merge_views_equals_merge_views(tool, tmp_path):
     # The PLY stores float32 coordinates.
     assert np.max(np.abs(model["points"] - expected["points"])) <= 1e-6
     assert len(model["viewpoints"]) == len(expected["viewpoints"]) > 0
+    # Which views saw each point, as the PLY's views property carries it.
+    assert np.array_equal(model["views"], expected["views"]) and model["views"].min() > 0
 
 
 def test_align_pose_finds_the_grasp(tool, tmp_path):

@@ -29,6 +29,8 @@ class KdTree {
   // How many points lie within radius, stopping early once `enough` have been found.
   std::size_t count_within(const Vec3& query, double radius,
                            std::size_t enough = std::numeric_limits<std::size_t>::max()) const;
+  // The indices of every point within radius, in no particular order.
+  std::vector<std::uint32_t> within(const Vec3& query, double radius) const;
 
   const Points& points() const { return points_; }
   static constexpr std::uint32_t npos = std::numeric_limits<std::uint32_t>::max();

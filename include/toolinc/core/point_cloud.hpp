@@ -15,15 +15,18 @@ using Rgb = std::array<std::uint8_t, 3>;
 
 struct PointCloud {
   Points points;
-  std::vector<Rgb> colors;  // empty, or one per point
-  Points normals;           // empty, or one per point
-  std::string frame;        // e.g. "hand", "root", "canonical"; empty when unknown
-  Points viewpoints;        // where sensors saw these points from, in the same frame (may be empty)
+  std::vector<Rgb> colors;           // empty, or one per point
+  Points normals;                    // empty, or one per point
+  std::string frame;                 // e.g. "hand", "root", "canonical"; empty when unknown
+  Points viewpoints;                 // where sensors saw these points from, in the same frame (may be empty)
+  std::vector<std::uint32_t> views;  // empty, or one per point: which of the views merged into this cloud saw
+                                     // it, a bit per view (bit v: merge-views' input v)
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }
   bool has_colors() const { return !colors.empty(); }
   bool has_normals() const { return !normals.empty(); }
+  bool has_views() const { return !views.empty(); }
 };
 
 }  // namespace toolinc

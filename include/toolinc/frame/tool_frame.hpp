@@ -23,6 +23,10 @@ FrameMethod frame_method_from_string(const std::string& name);  // throws std::i
 struct ToolFrameConfig {
   FrameMethod method = FrameMethod::search;
   double hand_radius = 0.06;          // m: points this close to the hand origin belong to the hand
+  double piece_gap = 0.06;            // m: points at most this far apart are one piece; a piece not joined to
+                                      //    the one the hand holds is not the tool (a patch of the scene,
+                                      //    smear). The robot's reconstructions are whole from 7 mm, simulated
+                                      //    sessions' from 45 mm (holes stereo leaves in a head); 0: no split
   double voxel_size = 0.004;          // m: resampling that makes every statistic density-independent
   double isolated_radius = 0.01;      // m: resampled points with fewer than isolated_min_neighbors ...
   int isolated_min_neighbors = 3;     //    ... others within isolated_radius are stray and dropped
@@ -144,9 +148,10 @@ struct ToolFrameDiagnostics {
   double head_curl = 0.0;                      // m: how far the head's edges rise along +X above its middle,
                                                // measured when the head is thinnest along X
   int points_input = 0, points_outside_hand = 0, points_used = 0;
-  std::vector<ScoredHypothesis> hypotheses;  // the search's, the chosen first, then by probability; empty
-                                             // under the rules
-  double tooltip_probability = 0.0;          // the search's: that of the chosen tooltip (frame_search.hpp)
+  int points_detached = 0, pieces_detached = 0;  // beyond the hand but not joined to what it holds: dropped
+  std::vector<ScoredHypothesis> hypotheses;      // the search's, the chosen first, then by probability; empty
+                                                 // under the rules
+  double tooltip_probability = 0.0;              // the search's: that of the chosen tooltip (frame_search.hpp)
 };
 
 struct ToolFrame {

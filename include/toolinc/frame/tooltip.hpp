@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
+#include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/point_cloud.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 
@@ -30,7 +31,8 @@ struct TooltipConfig {
                                      //    averaged over this many nearest points (noise down by about 3)
   double density_radius = 0.02;      // m: a candidate needs more than min_neighbors points within this,
   int min_neighbors = 20;            //    so isolated outliers are never the tooltip (the original's check)
-  double hand_radius = 0.06;         // m: points this close to the hand origin are ignored
+  double hand_radius = 0.06;         // m: points this close to the hand origin are ignored, and ...
+  double piece_gap = 0.06;           // m: ... those not joined to what the hand holds (share_hand_settings)
   double ambiguity_distance = 0.01;  // m: an alternative tip this far from the chosen one makes the
                                      //    tooltip ambiguous (the accuracy a tool's use needs)
   double tip_edge_radius = 0.005;    // m: the surface's density at the tip is counted within this (a few
@@ -39,6 +41,9 @@ struct TooltipConfig {
                                      //    beyond the true edge (the robot's clouds: a tenth of their points
                                      //    lie more than 11 mm off the surface); 0: no fringe
 };
+
+// The tooltip ignores the hand and what it does not hold as the frame does: its hand-radius and piece-gap.
+void share_hand_settings(const ToolFrameConfig& frame, TooltipConfig& tooltip);
 
 // Another tip the rule could have given: on another symmetry plane that scored as well as the chosen
 // one, or another point tied with the chosen one on the same plane.
@@ -58,12 +63,17 @@ struct Tooltip {
   int candidates = 0;          // effector-side points considered
   int rejected_sparse = 0;     // better-scoring candidates rejected by the density check
   int tied = 0;                // dense candidates scoring within tie-tolerance of the best
+  int detached_points = 0;     // beyond the hand but not joined to what it holds: never candidates
+  int detached_pieces = 0;     // how many pieces those form
   double noise_m = 0.0;        // RMS distance of the tip's neighbours from their plane
   double uncertainty_m = 0.0;  // how far the tip would move under that noise: the farthest
                                // tied point whose tie-break is within 2 sigma of the best
+  int views_in_cloud = 0;      // how many views saw the cloud (0: its points carry no view labels)
+  int views_at_tip = 0;        // ... and the points within density-radius of surface_point: one of several
+                               //    is a tip nothing else backs (a patch of the scene one view took in)
   std::vector<TooltipAlternative> alternatives;
   bool ambiguous = false;  // an alternative lies farther than ambiguity-distance away
-  Confidence confidence;   // the frame's, and whether another tip scores as well
+  Confidence confidence;   // the frame's, whether another tip scores as well, and whether one view alone saw it
 };
 
 // How far back from point, along -direction, the surface's edge lies: where the density within
@@ -71,19 +81,22 @@ struct Tooltip {
 double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config);
 
 // What the tooltip's rule measures of a cloud whatever the frame, kept for the many frames of one cloud (the
-// search's hypotheses, a frame's alternatives): each point's distance from the hand, the points beyond it,
-// and each point's density check and smoothing neighbours, computed when first needed. Not thread-safe (it
-// caches); points and tree (over points) must outlive it.
+// search's hypotheses, a frame's alternatives): each point's distance from the hand, the points beyond it
+// joined to what it holds (the candidates), and each point's density check and smoothing neighbours,
+// computed when first needed. Not thread-safe (it caches); points and tree (over points) must outlive it.
 class TooltipCache {
  public:
   TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config);
+  // The same with the held piece already found (held_piece with the config's hand-radius and piece-gap).
+  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held);
 
   const Points& points() const { return points_; }
   const KdTree& tree() const { return tree_; }
   const TooltipConfig& config() const { return config_; }
   double from_hand(std::uint32_t index) const { return from_hand_[index]; }  // the point's distance from the hand
-  // The indices of the points farther than hand-radius from the hand, ascending.
-  const std::vector<std::uint32_t>& beyond_hand() const { return beyond_hand_; }
+  // The indices of the points farther than hand-radius from the hand and joined to what it holds, ascending.
+  const std::vector<std::uint32_t>& beyond_hand() const { return held_.indices; }
+  const HeldPiece& held() const { return held_; }
   // Whether the point has more than min-neighbors others within density-radius.
   bool dense(std::uint32_t index) const;
   // The point's smoothing-neighbors nearest points (itself included), nearest first.
@@ -94,17 +107,21 @@ class TooltipCache {
   const KdTree& tree_;
   TooltipConfig config_;
   std::vector<double> from_hand_;
-  std::vector<std::uint32_t> beyond_hand_;
+  HeldPiece held_;
   mutable std::vector<std::int8_t> dense_;  // per point: 1 dense, 0 sparse, -1 not checked yet
   mutable std::unordered_map<std::uint32_t, std::vector<KdTree::Neighbor>> smoothing_;  // of the points searched
 };
 
-// Throws MethodError when no effector-side point passes the density check.
-Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {});
+// Throws MethodError when no effector-side point passes the density check. views (empty, or one per point):
+// which of the views merged into the cloud saw each point (PointCloud::views); when the cloud has several
+// and the points within density-radius of the tip all come from one, the tip is doubtful.
+Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {},
+                     const std::vector<std::uint32_t>& views = {});
 // The same with the points' tree already built (tree over points).
-Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config);
+Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config,
+                     const std::vector<std::uint32_t>& views = {});
 // The same with what the rule measures of the cloud kept from other frames of it, with the cache's config.
-Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame);
+Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame, const std::vector<std::uint32_t>& views = {});
 // find_tooltip's position alone (nothing where it throws), without the noise, the tied points' spread and
 // the alternatives it measures around it: what the search needs of each hypothesis, at a fraction of the cost.
 std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame);

@@ -43,8 +43,13 @@ struct ViewMerge {
   int smear_dropped = 0;  // of its points, dropped as smear: another view saw through them and none saw them
 };
 
+// The model's points say which views saw them (PointCloud::views, a bit each) when it merges at most this
+// many views; a model of more carries no view labels.
+constexpr std::size_t kMaxLabelledViews = 32;
+
 struct MergeResult {
-  PointCloud model;  // in the hand frame estimated as the mean of the accepted views'
+  PointCloud model;  // in the hand frame estimated as the mean of the accepted views', with the views that
+                     // saw each point (at most kMaxLabelledViews views)
   Eigen::Matrix4d hand_from_reference = Eigen::Matrix4d::Identity();  // that frame from the reference view's
   std::vector<ViewMerge> views;
 };
