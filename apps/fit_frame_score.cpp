@@ -33,11 +33,15 @@ using Hypotheses = std::vector<toolinc::LabelledHypothesis>;
 
 // A hypothesis is right when its tooltip lies within `tolerance` of the truth, its effector points the
 // true way (on a tool with a salient effector; a scoop's tip alone does not tell its side) and its handle
-// lies within `handle_deg` of the true one (a stick's tip does not tell it either).
+// lies within `handle_deg` of the best of its session's candidate handles (a stick's tip does not tell its
+// handle either; the choice can do no better than the best candidate, and a session whose candidates all
+// miss by more, a scoop whose belly tilts them, still teaches the rest).
 struct Rightness {
   double tip_m, handle_deg;
-  bool operator()(const toolinc::LabelledHypothesis& h) const {
-    return h.tooltip_m <= tip_m && h.effector_right && h.handle_deg <= handle_deg;
+  bool operator()(const toolinc::LabelledHypothesis& h, const Hypotheses& session) const {
+    double best = h.handle_deg;
+    for (const auto& other : session) best = std::min(best, other.handle_deg);
+    return h.tooltip_m <= tip_m && h.effector_right && h.handle_deg <= best + handle_deg;
   }
 };
 
@@ -63,13 +67,13 @@ double mean_log_likelihood(const toolinc::FrameScoreModel& model, const std::vec
   for (const auto& hypotheses : sessions) {
     std::vector<double> scores;
     int right = 0;
-    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += is_right(h);
+    for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), right += is_right(h, hypotheses);
     if (right == 0 || right == static_cast<int>(hypotheses.size())) continue;
     const double top = *std::max_element(scores.begin(), scores.end());
     double total = 0.0;
     for (const double z : scores) total += std::exp(z - top);
     for (std::size_t i = 0; i < hypotheses.size(); ++i)
-      if (is_right(hypotheses[i])) sum += (scores[i] - top - std::log(total)) / right;
+      if (is_right(hypotheses[i], hypotheses)) sum += (scores[i] - top - std::log(total)) / right;
     ++counted;
   }
   return sum / std::max(counted, 1);
@@ -120,7 +124,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(toolinc::in_range({0.001, false, 0.1, "m"}));
   cli.add_option("--handle-tolerance", handle_tolerance,
-                 "deg: ... and whose handle axis lies this close (180: the handle is not asked)")
+                 "deg: ... and whose handle axis lies this close to the best of its session's candidates' (180: the "
+                 "handle is not asked)")
       ->capture_default_str()
       ->check(toolinc::in_range({0.1, false, 180.0, "deg"}));
   cli.add_flag("--belly-behind", belly_behind,
@@ -216,7 +221,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < fit_on.size(); ++i)
       for (const auto& h : fit_on[i]) {
         rows.push_back(h.features);
-        labels.push_back(is_right(h));
+        labels.push_back(is_right(h, fit_on[i]));
         groups.push_back(static_cast<int>(i));
       }
     if (rows.empty()) throw toolinc::MethodError("no session gave a hypothesis to fit on");
@@ -234,8 +239,9 @@ int main(int argc, char** argv) {
       if (hypotheses.empty()) continue;
       const Choice c = choose(model, hypotheses, pipeline.tooltip.ambiguity_distance);
       chosen.emplace_back(c.probability, c.chosen->tooltip_m <= confident_tolerance);
-      chosen_right += is_right(*c.chosen);
-      any_right += std::any_of(hypotheses.begin(), hypotheses.end(), [&](const auto& h) { return is_right(h); });
+      chosen_right += is_right(*c.chosen, hypotheses);
+      any_right +=
+          std::any_of(hypotheses.begin(), hypotheses.end(), [&](const auto& h) { return is_right(h, hypotheses); });
     }
     model.confident_probability = confident_probability(chosen, precision);
     toolinc::Json calibration = toolinc::Json::array();
@@ -271,38 +277,40 @@ int main(int argc, char** argv) {
     for (const auto family : families) names.push_back(toolinc::to_string(family));
     toolinc::Json compared;
     if (other) compared = {{"file", compare}, {"mean_log_likelihood", mean_log_likelihood(*other, fit_on, is_right)}};
-    toolinc::write_json(command.output(), {{"type", "frame_score"},
-                                           {"version", 2},
-                                           {"fitted_on",
-                                            {{"families", names},
-                                             {"first_seed", first_seed},
-                                             {"grasps", grasps},
-                                             {"stereo", stereo},
-                                             {"tip_tolerance_m", tip_tolerance},
-                                             {"handle_tolerance_deg", handle_tolerance},
-                                             {"belly_behind", belly_behind},
-                                             {"right",
-                                              "tooltip within tip_tolerance_m, where the effector is salient the "
-                                              "effector the true way, and the handle within handle_tolerance_deg"},
-                                             {"ridge", ridge}}},
-                                           {"calibrated_on",
-                                            {{"first_seed", calibration_first_seed},
-                                             {"grasps", calibration_grasps},
-                                             {"confident_tolerance_m", confident_tolerance},
-                                             {"precision", precision}}},
-                                           {"hypotheses", rows.size()},
-                                           {"right", positives},
-                                           {"features", features},
-                                           {"weights", weights},
-                                           {"confident_probability", model.confident_probability},
-                                           {"calibration",
-                                            {{"sessions", chosen.size()},
-                                             {"chosen_right", chosen_right},
-                                             {"some_hypothesis_right", any_right},
-                                             {"confident", confident},
-                                             {"confident_within_tolerance", confident_right},
-                                             {"table", calibration}}},
-                                           {"mean_log_likelihood", mean_log_likelihood(model, fit_on, is_right)},
-                                           {"compared", compared}});
+    toolinc::write_json(
+        command.output(),
+        {{"type", "frame_score"},
+         {"version", 2},
+         {"fitted_on",
+          {{"families", names},
+           {"first_seed", first_seed},
+           {"grasps", grasps},
+           {"stereo", stereo},
+           {"tip_tolerance_m", tip_tolerance},
+           {"handle_tolerance_deg", handle_tolerance},
+           {"belly_behind", belly_behind},
+           {"right",
+            "tooltip within tip_tolerance_m, where the effector is salient the "
+            "effector the true way, and the handle within handle_tolerance_deg of the session's best candidate's"},
+           {"ridge", ridge}}},
+         {"calibrated_on",
+          {{"first_seed", calibration_first_seed},
+           {"grasps", calibration_grasps},
+           {"confident_tolerance_m", confident_tolerance},
+           {"precision", precision}}},
+         {"hypotheses", rows.size()},
+         {"right", positives},
+         {"features", features},
+         {"weights", weights},
+         {"confident_probability", model.confident_probability},
+         {"calibration",
+          {{"sessions", chosen.size()},
+           {"chosen_right", chosen_right},
+           {"some_hypothesis_right", any_right},
+           {"confident", confident},
+           {"confident_within_tolerance", confident_right},
+           {"table", calibration}}},
+         {"mean_log_likelihood", mean_log_likelihood(model, fit_on, is_right)},
+         {"compared", compared}});
   });
 }

@@ -95,6 +95,10 @@ const std::vector<Parameter<ToolFrameConfig>>& tool_frame_parameters() {
        kMaxLength},
       {"grasp-reach", "m", "The handle's axis passes this close to the hand; a farther one makes the frame doubtful",
        &F::grasp_reach, kMinLength, kClosed, kMaxLength},
+      {"grasp-hold", "m",
+       "A closed hand holds its handle's axis about this far from the hand's origin; the search finds a handle line "
+       "passing farther less likely",
+       &F::grasp_hold, kMinLength, kClosed, kMaxLength},
       {"grasp-max-radius", "m",
        "The hand closes on handles up to this radius; a thicker fitted handle makes the frame doubtful",
        &F::grasp_max_radius, kMinLength, kClosed, kMaxLength},

@@ -883,7 +883,8 @@ std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points&
   for (const auto& p : held) off_line += radial_distance(handle, p) > c.grasp_max_radius;
   const double reach = f.diagnostics.hand_to_handle / c.grasp_reach, radius = f.handle_radius / c.grasp_max_radius;
   return {
-      reach,                        // the handle's line's distance from the hand
+      reach,  // the handle's line's distance from the hand
+      std::max(0.0, f.diagnostics.hand_to_handle - c.grasp_hold) / c.grasp_hold,  // ... beyond the hand's hold
       radius,                       // the handle's radius against what the hand closes on
       std::max(0.0, radius - 1.0),  // ... beyond it
       held.empty() ? 0.0 : static_cast<double>(off_line) / static_cast<double>(held.size()),  // held part off it
@@ -922,6 +923,7 @@ std::vector<double> alternative_planes_deg(const ToolFrame& rules) {
 
 const std::array<const char*, kFrameFeatures>& frame_feature_names() {
   static const std::array<const char*, kFrameFeatures> names{"hand_to_handle_per_grasp_reach",
+                                                             "beyond_grasp_hold",
                                                              "handle_radius_per_grasp_max_radius",
                                                              "beyond_grasp_max_radius",
                                                              "held_share_off_handle",
@@ -1022,7 +1024,8 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
       const FrameHypothesis& h = hypotheses[i];
       frame.diagnostics.hypotheses.push_back({h.handle_source, h.rules_plane, h.side_reversed,
                                               std::exp(h.log_odds - best.log_odds) / total, h.frame.effector_axis(),
-                                              h.frame.handle_axis(), h.tooltip});
+                                              h.frame.handle_axis(), h.tooltip,
+                                              std::vector<double>(h.features.begin(), h.features.end())});
     }
     // The rules' doubts are the search's features and alternatives: the confidence is the chosen tooltip's
     // probability, against the level calibrated, on sessions the fit did not see, for 98 % of confident

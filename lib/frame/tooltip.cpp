@@ -165,6 +165,26 @@ double local_noise(const KdTree& tree, const Vec3& point, int k) {
   return std::sqrt(std::max(0.0, solver.eigenvalues()(0)) / static_cast<double>(near.size()));
 }
 
+// How far the points within radius of the line through point along f's effector axis spread along it (their
+// 10th to 90th percentile): across a blade's far end, a plate's thickness and the noise, unless stereo smeared
+// the plate seen face-on into a tail behind it or the edge bends along the axis, which leave where across the
+// blade its tip lies uncertain.
+double across_blade_spread(const Points& points, const ToolFrame& f, const Vec3& point, double radius) {
+  const Vec3 x = f.effector_axis();
+  std::vector<double> across;
+  for (const auto& q : points) {
+    const Vec3 d = q - point;
+    if ((d - d.dot(x) * x).squaredNorm() <= radius * radius) across.push_back(d.dot(x));
+  }
+  if (across.size() < 2) return 0.0;
+  const auto at = [&](double share) {
+    const auto nth = across.begin() + static_cast<std::ptrdiff_t>(share * static_cast<double>(across.size() - 1));
+    std::nth_element(across.begin(), nth, across.end());
+    return *nth;
+  };
+  return at(0.9) - at(0.1);
+}
+
 // The rule's tips at these surface points, each projected onto f's symmetry plane and moved back off the
 // fringe to the surface's edge (and how far, in retreats). The edge is sought among the points projected
 // there too: the head's whole width piles up on the plane, so a lobe of fringe at one side of it is sparse
@@ -348,6 +368,13 @@ Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame, const st
   for (const auto& a : tip.alternatives) farthest = std::max(farthest, (a.position - tip.position).norm());
   tip.ambiguous = farthest > config.ambiguity_distance;
   tip.confidence = frame.confidence;
+  if (frame.tip_at_far_end()) {
+    const double spread = across_blade_spread(points, frame, tip.surface_point, config.tip_edge_radius);
+    tip.confidence.check(1.0 - spread / config.ambiguity_distance,
+                         fmt::format("the blade's far end spreads {:.0f} mm across it (smear behind a plate seen "
+                                     "face-on, or an edge bent along it), beyond ambiguity-distance ({:.0f} mm)",
+                                     1000 * spread, 1000 * config.ambiguity_distance));
+  }
   tip.confidence.check(1.0 - farthest / config.ambiguity_distance,
                        fmt::format("another tip {:.0f} mm away scores as well (a tied point, a tied or rival symmetry "
                                    "plane, the other effector side), beyond ambiguity-distance ({:.0f} mm)",

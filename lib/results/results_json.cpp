@@ -6,6 +6,7 @@
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
+#include "toolinc/frame/frame_search.hpp"
 #include "toolinc/frame/parameters.hpp"
 #include "toolinc/registration/parameters.hpp"
 
@@ -98,14 +99,18 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
   };
   if (!frame.diagnostics.hypotheses.empty()) {
     Json hypotheses = Json::array();
-    for (const auto& h : frame.diagnostics.hypotheses)
+    for (const auto& h : frame.diagnostics.hypotheses) {
+      Json features = Json::object();
+      for (std::size_t i = 0; i < h.features.size(); ++i) features[frame_feature_names()[i]] = h.features[i];
       hypotheses.push_back({{"handle", h.handle_source},
                             {"rules_plane", h.rules_plane},
                             {"other_side", h.other_side},
                             {"probability", h.probability},
                             {"effector_axis", to_json(h.effector_axis)},
                             {"handle_axis", to_json(h.handle_axis)},
-                            {"tooltip", h.tooltip ? to_json(*h.tooltip) : Json()}});
+                            {"tooltip", h.tooltip ? to_json(*h.tooltip) : Json()},
+                            {"features", features}});
+    }
     json["diagnostics"]["hypotheses"] = hypotheses;
     json["diagnostics"]["tooltip_probability"] = frame.diagnostics.tooltip_probability;
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -21,6 +22,16 @@
 
 using namespace toolinc;
 using namespace toolinc::testing;
+
+namespace {
+
+// A feature's index by its name (frame_feature_names() when absent).
+std::size_t feature_index(const std::string& name) {
+  const auto& names = frame_feature_names();
+  return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+
+}  // namespace
 
 TEST(ChoiceModel, RecoversTheWeightsItsChoicesWereDrawnFrom) {
   // 4,000 choices among 5 candidates, each drawn with probability exp(2 a - b) / sum: the weights' standard
@@ -62,6 +73,11 @@ TEST(ChoiceModel, SeparableDataGivesFiniteWeightsAndGroupsWithoutAChoiceSayNothi
 }
 
 TEST(FrameSearch, HypothesesAreCandidateHandlesAndPlanesWithEitherSide) {
+  const std::size_t asymmetry = feature_index("effector_reach_asymmetry");
+  const std::vector<std::size_t> handle_features{feature_index("hand_to_handle_per_grasp_reach"),
+                                                 feature_index("beyond_grasp_hold")};
+  for (const std::size_t f : handle_features) ASSERT_LT(f, frame_feature_names().size());
+  ASSERT_LT(asymmetry, frame_feature_names().size());
   int alternatives = 0;
   for (const ToolFamily family : {ToolFamily::hook, ToolFamily::hoe, ToolFamily::rake, ToolFamily::t_bar}) {
     const HeldToolCase held = make_held_tool(family, 5);
@@ -92,8 +108,9 @@ TEST(FrameSearch, HypothesesAreCandidateHandlesAndPlanesWithEitherSide) {
       EXPECT_TRUE(rules_side.effector_axis().isApprox(-other.effector_axis()));
       EXPECT_TRUE(is_rotation(other.axes, 1e-9));
       // The side's features change sign with the side; the handle's do not.
-      EXPECT_DOUBLE_EQ(hypotheses[i].features[6], -hypotheses[i + 1].features[6]);
-      EXPECT_DOUBLE_EQ(hypotheses[i].features[0], hypotheses[i + 1].features[0]);
+      EXPECT_DOUBLE_EQ(hypotheses[i].features[asymmetry], -hypotheses[i + 1].features[asymmetry]);
+      for (const std::size_t f : handle_features)
+        EXPECT_DOUBLE_EQ(hypotheses[i].features[f], hypotheses[i + 1].features[f]);
       for (const double f : hypotheses[i].features) EXPECT_TRUE(std::isfinite(f));
     }
   }
@@ -144,12 +161,14 @@ TEST(FrameSearch, KeepsTheMostLikelyHypothesis) {
   const ToolFrame frame = estimate_tool_frame(held.observed, config);
   EXPECT_TRUE(frame.axes.isApprox(hypotheses[best].frame.axes));
   // A model that scores only the effector's salience, against it: the least salient side wins.
+  const std::size_t salience = feature_index("effector_reach_asymmetry");
+  ASSERT_LT(salience, frame_feature_names().size());
   FrameScoreModel against_salience;
-  against_salience.weights[6] = -1.0;
+  against_salience.weights[salience] = -1.0;
   const auto scored = frame_hypotheses(held.observed, config, {}, against_salience);
-  double least = scored.front().features[6];
-  for (const auto& h : scored) least = std::min(least, h.features[6]);
-  for (const auto& h : scored) EXPECT_DOUBLE_EQ(h.log_odds, -h.features[6]);
+  double least = scored.front().features[salience];
+  for (const auto& h : scored) least = std::min(least, h.features[salience]);
+  for (const auto& h : scored) EXPECT_DOUBLE_EQ(h.log_odds, -h.features[salience]);
   EXPECT_LT(least, 0.0) << "some hypothesis has its effector on its less salient side";
 }
 

@@ -435,6 +435,36 @@ TEST(TooltipEdge, ScoopTipIsTheFarEdgesRimCornerNotTheFringeInItsMiddle) {
   EXPECT_EQ(tip.position.z(), 0.0);
 }
 
+// Stereo smears a plate seen face-on into a tail behind it, as deep as the gap to the background: at the
+// blade's far end that tail reaches as far from the hand as the plate, and where across the blade the tip
+// lies is uncertain. A clean plate's far end spreads across it by its thickness and noise only.
+TEST(TooltipEdge, SmearAcrossABladesFarEndMakesTheTipDoubtful) {
+  const double half_width = 0.045, far_end = -0.25;
+  const auto spread_doubt = [](const Tooltip& tip) {
+    return std::any_of(tip.confidence.doubts.begin(), tip.confidence.doubts.end(),
+                       [](const std::string& d) { return d.find("far end spreads") != std::string::npos; });
+  };
+  ToolFrame frame;
+  frame.origin = Vec3(0.0, -0.15, 0.0);
+  frame.head_kind = HeadKind::blade;
+  for (std::uint32_t seed = 1; seed <= 5; ++seed) {
+    Rng rng(seed);
+    Points blade;
+    for (double y = -0.15; y >= far_end; y -= 0.001)
+      for (double z = -half_width; z <= half_width + 1e-9; z += 0.001)
+        blade.push_back(Vec3(rng.uniform(-0.002, 0.002), y + rng.uniform(-0.0015, 0.0015), z));
+    const Tooltip clean = find_tooltip(blade, frame);
+    EXPECT_FALSE(spread_doubt(clean)) << "seed " << seed;
+    // The tail: 1 to 4 cm behind the plate over the last centimetre of it, half as dense as the plate.
+    for (double y = far_end; y <= far_end + 0.01; y += 0.001)
+      for (double z = -half_width; z <= half_width + 1e-9; z += 0.002)
+        for (double x = -0.04; x <= -0.01; x += 0.002) blade.push_back(Vec3(x, y + rng.uniform(-0.0015, 0.0015), z));
+    const Tooltip smeared = find_tooltip(blade, frame);
+    EXPECT_TRUE(spread_doubt(smeared)) << "seed " << seed << ", tip at " << smeared.position.transpose();
+    EXPECT_FALSE(smeared.confidence.confident) << "seed " << seed;
+  }
+}
+
 // A blade is told from the head seen along the handle, before any plane is chosen: the shovel's scoop is
 // one (a plate centred on the handle's axis, reaching along it), and its plane is the one across it; a
 // hook or an L (reaching out on one side), a T's bar and a rake's comb (short along the handle) and a

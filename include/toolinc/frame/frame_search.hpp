@@ -16,7 +16,7 @@
 
 namespace toolinc {
 
-constexpr int kFrameFeatures = 10;
+constexpr int kFrameFeatures = 11;
 
 // The features' names, in order, as the weights file has them.
 const std::array<const char*, kFrameFeatures>& frame_feature_names();

@@ -92,6 +92,9 @@ struct ToolFrameConfig {
   double grasp_reach = 0.10;             // m: the hand holds the handle, so the handle's axis passes within
                                          //    this of the hand's origin (the original's grasp check: the tool
                                          //    at most 10 cm from the hand); a farther axis is doubtful
+  double grasp_hold = 0.04;              // m: a closed hand holds its handle's axis about this far from the
+                                         //    hand's origin (the palm to the fist's middle); the search finds
+                                         //    a line passing farther less likely
   double grasp_max_radius = 0.02;        // m: the iCub's hand closes on handles up to about 4 cm across; a
                                          //    thicker fitted handle is not what it holds (a head, the hand or
                                          //    smear in the fit): doubtful
@@ -122,7 +125,8 @@ struct ScoredHypothesis {
   bool other_side = false;    // the effector on the other side from the one the rules take about that handle
   double probability = 0.0;   // that it is the right one among the hypotheses, as the fitted choice model says
   Vec3 effector_axis = Vec3::Zero(), handle_axis = Vec3::Zero();
-  std::optional<Vec3> tooltip;  // its tooltip by the paper's rule, when it has one
+  std::optional<Vec3> tooltip;   // its tooltip by the paper's rule, when it has one
+  std::vector<double> features;  // what the choice model weighed, in frame_feature_names()'s order
 };
 
 // How the frame was found: for the record (the tool_frame JSON's diagnostics), not for use.
