@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "frame/cylinder_fit.hpp"
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/scatter.hpp"
@@ -170,12 +171,10 @@ double local_noise(const KdTree& tree, const Vec3& point, int k) {
 // the plate seen face-on into a tail behind it or the edge bends along the axis, which leave where across the
 // blade its tip lies uncertain.
 double across_blade_spread(const Points& points, const ToolFrame& f, const Vec3& point, double radius) {
-  const Vec3 x = f.effector_axis();
+  const Cylinder line{point, f.effector_axis(), 0.0, 0.0};
   std::vector<double> across;
-  for (const auto& q : points) {
-    const Vec3 d = q - point;
-    if ((d - d.dot(x) * x).squaredNorm() <= radius * radius) across.push_back(d.dot(x));
-  }
+  for (const auto& q : points)
+    if (radial_distance(line, q) <= radius) across.push_back((q - point).dot(line.axis));
   if (across.size() < 2) return 0.0;
   const auto at = [&](double share) {
     const auto nth = across.begin() + static_cast<std::ptrdiff_t>(share * static_cast<double>(across.size() - 1));
