@@ -3,8 +3,8 @@
 // on simulated sessions of the generated families. Every frame hypothesis on each session's merged model is
 // labelled right when its tooltip lies within --tip-tolerance of the truth carried by the true model aligned
 // onto the merge, on a tool with a salient effector its effector points the true way, and its handle lies
-// within --handle-tolerance of the true one; a choice model of the hypotheses' features is fitted so that
-// each session's right ones are the likely ones. On sessions of other seeds, never fitted on, the chosen
+// within --handle-tolerance of its session's best candidate's; a choice model of the hypotheses' features is fitted so
+// that each session's right ones are the likely ones. On sessions of other seeds, never fitted on, the chosen
 // hypotheses' probabilities are compared with how often their tooltips were right (the calibration table),
 // and the probability from which 98 % of chosen tooltips lie within 15 mm becomes the confidence threshold.
 // The real tools, the CAD models and the robot's reconstructions are never fitted on: they are the exam.
@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> family_names;
   std::uint32_t first_seed = 1000, calibration_first_seed = 2000;
   int grasps = 16, calibration_grasps = 8;
-  double tip_tolerance = 0.010, handle_tolerance = 180.0, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
-  bool belly_behind = false;
+  double tip_tolerance = 0.010, handle_tolerance = 3.0, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
+  bool belly_behind = true;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "elas", compare, hypotheses_csv;
@@ -128,9 +128,9 @@ int main(int argc, char** argv) {
                  "handle is not asked)")
       ->capture_default_str()
       ->check(toolinc::in_range({0.1, false, 180.0, "deg"}));
-  cli.add_flag("--belly-behind", belly_behind,
+  cli.add_flag("--belly-behind,!--no-belly-behind", belly_behind,
                "Every other shovel session's scoop lowered behind the handle's axis (belly_behind), as many real "
-               "scoops are held");
+               "scoops are held (default; --no-belly-behind: none)");
   cli.add_option("--confident-tolerance", confident_tolerance,
                  "m: a confident tooltip must lie this close to the truth ...")
       ->capture_default_str()

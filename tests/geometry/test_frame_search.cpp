@@ -210,8 +210,8 @@ TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
           std::to_string(calibrated.at("grasps").get<int>()) + " --stereo " + on.at("stereo").get<std::string>() +
           " --tip-tolerance " + std::to_string(on.at("tip_tolerance_m").get<double>()) + " --handle-tolerance " +
           std::to_string(on.at("handle_tolerance_deg").get<double>()) +
-          (on.at("belly_behind").get<bool>() ? " --belly-behind" : "") + " --compare " + shipped + " -o " +
-          (dir / "score.json").string());
+          (on.at("belly_behind").get<bool>() ? " --belly-behind" : " --no-belly-behind") + " --compare " + shipped +
+          " -o " + (dir / "score.json").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json refit = read_json((dir / "score.json").string());
   const double best = refit.at("mean_log_likelihood").get<double>();
