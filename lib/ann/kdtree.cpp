@@ -5,39 +5,42 @@
 
 namespace toolinc {
 
-KdTree::KdTree(const Points& points, int leaf_size) : points_(points), order_(points.size()) {
-  std::iota(order_.begin(), order_.end(), 0u);
+KdTree::KdTree(const Points& points, int leaf_size) : points_(points) {
+  // Built on the points themselves, beside their indices: the partitions read them in memory order.
+  std::vector<Entry> entries(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) entries[i] = {points[i], static_cast<std::uint32_t>(i)};
   nodes_.reserve(2 * points.size() / std::max(1, leaf_size) + 1);
-  if (!points.empty()) {
-    Vec3 lo = points[0], hi = lo;
-    for (const auto& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    build(0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size), lo, hi);
-  }
+  if (!points.empty()) build(entries, 0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size));
+  order_.reserve(points.size());
   ordered_.reserve(points.size());
-  for (const auto index : order_) ordered_.push_back(points[index]);
+  for (const auto& e : entries) order_.push_back(e.index), ordered_.push_back(e.point);
 }
 
-// lo, hi: a box holding the node's points (the root's bounding box, cut by the splits above): its widest
-// side is split at the median, which keeps the tree balanced and robust to duplicate points.
-std::int32_t KdTree::build(std::uint32_t begin, std::uint32_t end, int leaf_size, Vec3 lo, Vec3 hi) {
+// The widest side of the node's points' own box (a sample's) is split at the median, which keeps the tree
+// balanced, robust to duplicate points, and its cells compact where the points are sparse (a box cut only
+// by the splits above stays as wide as the cloud: k-NN queries took a fifth longer).
+std::int32_t KdTree::build(std::vector<Entry>& entries, std::uint32_t begin, std::uint32_t end, int leaf_size) {
   const auto id = static_cast<std::int32_t>(nodes_.size());
   nodes_.push_back({begin, end, -1, -1, -1, 0.0});
   if (end - begin <= static_cast<std::uint32_t>(leaf_size)) return id;
 
+  Vec3 lo = entries[begin].point, hi = lo;
+  const std::uint32_t stride = std::max<std::uint32_t>(1, (end - begin) / 64);
+  for (std::uint32_t i = begin; i < end; i += stride)
+    lo = lo.cwiseMin(entries[i].point), hi = hi.cwiseMax(entries[i].point);
   int dim = 0;
   (hi - lo).maxCoeff(&dim);
   const std::uint32_t mid = begin + (end - begin) / 2;
-  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                   [&](std::uint32_t a, std::uint32_t b) { return points_[a][dim] < points_[b][dim]; });
-  const double split = points_[order_[mid]][dim];
-  Vec3 left_hi = hi, right_lo = lo;
-  left_hi[dim] = right_lo[dim] = split;
-  const std::int32_t left = build(begin, mid, leaf_size, lo, left_hi);
-  const std::int32_t right = build(mid, end, leaf_size, right_lo, hi);
-  nodes_[id].left = left;
-  nodes_[id].right = right;
-  nodes_[id].split_dim = dim;
-  nodes_[id].split_value = split;
+  std::nth_element(entries.begin() + begin, entries.begin() + mid, entries.begin() + end,
+                   [&](const Entry& a, const Entry& b) { return a.point[dim] < b.point[dim]; });
+  const double split = entries[mid].point[dim];
+  const std::int32_t left = build(entries, begin, mid, leaf_size);
+  const std::int32_t right = build(entries, mid, end, leaf_size);
+  Node& node = nodes_[id];
+  node.left = left;
+  node.right = right;
+  node.split_dim = dim;
+  node.split_value = split;
   return id;
 }
 
@@ -91,9 +94,14 @@ KdTree::Neighbor KdTree::nearest(const Vec3& query, double max_distance) const {
 std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
   if (k <= 0) return {};
   KNearest nearest(k);
-  double bound2 = std::numeric_limits<double>::infinity();
-  search(query, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
+  knn(query, nearest);
   return nearest.kept();
+}
+
+void KdTree::knn(const Vec3& query, KNearest& nearest) const {
+  nearest.clear();
+  double bound2 = std::numeric_limits<double>::infinity();
+  if (!nearest.full()) search(query, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
 }
 
 KNearest::KNearest(int k) : k_(std::max(k, 0)) { kept_.reserve(k_ + 1); }

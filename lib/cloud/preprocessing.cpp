@@ -201,8 +201,10 @@ std::vector<std::uint32_t> statistical_inliers(const Points& points, int k, doub
   if (points.size() <= static_cast<std::size_t>(k)) return kept;
   const KdTree tree(points);
   std::vector<double> mean_distance(points.size());
+  KNearest nearest(k + 1);  // the first is the point itself
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto neighbors = tree.knn(points[i], k + 1);  // the first is the point itself
+    tree.knn(points[i], nearest);
+    const auto& neighbors = nearest.kept();
     double sum = 0.0;
     for (std::size_t j = 1; j < neighbors.size(); ++j) sum += std::sqrt(neighbors[j].distance2);
     mean_distance[i] = sum / static_cast<double>(neighbors.size() - 1);

@@ -13,6 +13,8 @@
 
 namespace toolinc {
 
+class KNearest;
+
 class KdTree {
  public:
   explicit KdTree(const Points& points, int leaf_size = 12);
@@ -26,6 +28,8 @@ class KdTree {
   Neighbor nearest(const Vec3& query, double max_distance = std::numeric_limits<double>::infinity()) const;
   // Up to k nearest, sorted by distance.
   std::vector<Neighbor> knn(const Vec3& query, int k) const;
+  // The same into `nearest` (emptied first, its k asked): a loop of queries allocates nothing.
+  void knn(const Vec3& query, KNearest& nearest) const;
   // How many points lie within radius, stopping early once `enough` have been found.
   std::size_t count_within(const Vec3& query, double radius,
                            std::size_t enough = std::numeric_limits<std::size_t>::max()) const;
@@ -43,7 +47,11 @@ class KdTree {
     int split_dim;
     double split_value;
   };
-  std::int32_t build(std::uint32_t begin, std::uint32_t end, int leaf_size, Vec3 lo, Vec3 hi);
+  struct Entry {
+    Vec3 point;
+    std::uint32_t index;
+  };
+  std::int32_t build(std::vector<Entry>& entries, std::uint32_t begin, std::uint32_t end, int leaf_size);
   template <typename Visit>
   void search(const Vec3& query, double& bound2, Visit&& visit) const;
   template <typename Visit>
@@ -73,6 +81,7 @@ class KNearest {
     if (full()) bound2 = kept_.back().distance2;
   }
   bool full() const { return static_cast<int>(kept_.size()) == k_; }
+  void clear() { kept_.clear(); }
   const std::vector<KdTree::Neighbor>& kept() const { return kept_; }
 
  private:
