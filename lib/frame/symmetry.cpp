@@ -67,6 +67,15 @@ void MirrorTarget::scan(const Vec3& query, double& bound2, Visit&& visit) const 
     index[a][0] = c, index[a][1] = c - 1, index[a][2] = c + 1;
     gap2[a][0] = 0.0, gap2[a][1] = below * below, gap2[a][2] = above * above;
   }
+  // Each row is scanned nearest first: the three slices about the query's height, then the rest of its
+  // reach above and below them only when the bound, lowered by what they held, still reaches beyond them.
+  const double height = (query.z() - low_.z()) / size_.z();  // in slices
+  const double middle = std::floor(height);
+  // A slice's index, or one beyond the grid's either end.
+  const auto slice = [&](double at) { return static_cast<int>(std::clamp(at, -1.0, static_cast<double>(cells_.z()))); };
+  const int near_first = slice(middle - 1.0), near_last = slice(middle + 1.0);
+  // A point nearer the query than this along z lies in those three slices.
+  const double clear = std::min(height - (middle - 1.0), middle + 2.0 - height) * size_.z() - margin;
   for (int i = 0; i < 3; ++i) {
     const int x = index[0][i];
     if (x < 0 || x >= cells_.x() || gap2[0][i] > bound2) continue;
@@ -76,16 +85,22 @@ void MirrorTarget::scan(const Vec3& query, double& bound2, Visit&& visit) const 
       if (y < 0 || y >= cells_.y() || xy > bound2) continue;
       // The row's points lie side by side in by_cell_ in z order: those within the bound lie within
       // sqrt(bound2 - xy) of the query along z, one run of slices.
-      const double reach = std::sqrt(bound2 - xy) + margin;
-      const double first = std::max(0.0, std::floor((query.z() - reach - low_.z()) / size_.z()));
-      const double last = std::min(cells_.z() - 1.0, std::floor((query.z() + reach - low_.z()) / size_.z()));
-      if (first > last) continue;
       const std::size_t row = (static_cast<std::size_t>(x) * cells_.y() + y) * cells_.z();
-      const std::uint32_t end = cell_begin_[row + static_cast<std::size_t>(last) + 1];
-      for (std::uint32_t n = cell_begin_[row + static_cast<std::size_t>(first)]; n < end; ++n) {
-        const double d2 = (cell_points_[n] - query).squaredNorm();
-        if (d2 <= bound2) visit(by_cell_[n], d2);
-      }
+      const auto slices = [&](int first, int last) {
+        first = std::max(first, 0), last = std::min(last, cells_.z() - 1);
+        if (first > last) return;
+        const std::uint32_t end = cell_begin_[row + last + 1];
+        for (std::uint32_t n = cell_begin_[row + first]; n < end; ++n) {
+          const double d2 = (cell_points_[n] - query).squaredNorm();
+          if (d2 <= bound2) visit(by_cell_[n], d2);
+        }
+      };
+      slices(near_first, near_last);
+      const double left = bound2 - xy;
+      if (left <= clear * clear) continue;
+      const double reach = (std::sqrt(left) + margin) / size_.z();
+      slices(slice(std::floor(height - reach)), near_first - 1);
+      slices(near_last + 1, slice(std::floor(height + reach)));
     }
   }
 }
