@@ -179,11 +179,35 @@ Points remove_isolated(const Points& points, double radius, std::size_t min_neig
 }
 
 std::vector<std::uint32_t> non_isolated(const Points& points, double radius, std::size_t min_neighbors) {
-  const KdTree tree(points);
+  // Cells a shade wider than the radius: a point's neighbours within it lie in its cell or the 26 around it,
+  // rounding aside. Its own cell, searched first, mostly holds enough of them.
+  using Key = std::array<std::int64_t, 3>;
+  const double cell_size = radius * (1.0 + 1e-9);
+  std::vector<Key> key(points.size());
+  std::unordered_map<Key, std::vector<std::uint32_t>, CellHash> cells;
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d c = (points[i] / cell_size).array().floor();
+    if (!(c.cwiseAbs().maxCoeff() < 0x1p62))
+      throw std::invalid_argument(fmt::format("radius {} m is too small for a point at ({}, {}, {}) m", radius,
+                                              points[i].x(), points[i].y(), points[i].z()));
+    key[i] = {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())};
+    cells[key[i]].push_back(i);
+  }
+  const double r2 = radius * radius;
+  const std::size_t enough = min_neighbors + 1;  // the point itself is counted, as a radius search counts it
   std::vector<std::uint32_t> kept;
   kept.reserve(points.size());
-  for (std::uint32_t i = 0; i < points.size(); ++i)  // the point itself is counted by the tree, hence the + 1
-    if (tree.count_within(points[i], radius, min_neighbors + 1) >= min_neighbors + 1) kept.push_back(i);
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    std::size_t count = 0;
+    for (int k = 0; k < 27 && count < enough; ++k) {
+      const int dx = (k + 1) % 3 - 1, dy = (k / 3 + 1) % 3 - 1, dz = (k / 9 + 1) % 3 - 1;  // own cell first
+      const auto cell = cells.find({key[i][0] + dx, key[i][1] + dy, key[i][2] + dz});
+      if (cell == cells.end()) continue;
+      for (const auto j : cell->second)
+        if ((points[j] - points[i]).squaredNorm() <= r2 && ++count >= enough) break;
+    }
+    if (count >= enough) kept.push_back(i);
+  }
   return kept;
 }
 
