@@ -18,7 +18,7 @@ constexpr double kCellMargin = 1e-9;
 // Cells are cut this many times thinner along z: a row of them holds its points in z order, so a lookup
 // scans only those within its bound's reach along z, which shrinks to the nearest point's distance once
 // that is found, rather than three cells' depth.
-constexpr double kSlicesPerCell = 4.0;
+constexpr int kSlicesPerCell = 4;
 
 }  // namespace
 
@@ -48,6 +48,20 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
   for (std::uint32_t i = 0; i < points.size(); ++i) by_cell_[next[cell_of(points[i])]++] = i;
   cell_points_.reserve(points.size());
   for (const auto i : by_cell_) cell_points_.push_back(points[i]);
+  blocks_ = Eigen::Array3i(cells_.x(), cells_.y(), (cells_.z() + kSlicesPerCell - 1) / kSlicesPerCell) + 2;
+  points_near_.assign(static_cast<std::size_t>(blocks_.prod()), 0);
+  // From a block's index, less one along each axis, to its own and its 26 neighbours' in points_near_.
+  std::vector<std::size_t> around;
+  for (int dx = 0; dx < 3; ++dx)
+    for (int dy = 0; dy < 3; ++dy)
+      for (int dz = 0; dz < 3; ++dz)
+        around.push_back((static_cast<std::size_t>(dx) * blocks_.y() + dy) * blocks_.z() + dz);
+  for (const auto& p : points) {
+    const Eigen::Array3i c = ((p - low_).array() / size_).floor().cast<int>().min(cells_ - 1);
+    const std::size_t block =
+        (static_cast<std::size_t>(c.x()) * blocks_.y() + c.y()) * blocks_.z() + c.z() / kSlicesPerCell;
+    for (const auto offset : around) points_near_[block + offset] = 1;
+  }
 }
 
 template <typename Visit>
@@ -71,6 +85,17 @@ void MirrorTarget::scan(const Vec3& query, double& bound2, Visit&& visit) const 
   // reach above and below them only when the bound, lowered by what they held, still reaches beyond them.
   const double height = (query.z() - low_.z()) / size_.z();  // in slices
   const double middle = std::floor(height);
+  // Mirror images off the cloud mostly lie in a block with no point near, and nothing is within a cell of
+  // them. The query's block along z, in points_near_'s numbering: middle, a whole number, clamped to two
+  // blocks beyond the grid's ends so that it is not negative and the integer division rounds it down.
+  const int beyond = 2 * kSlicesPerCell;
+  const int block = (static_cast<int>(std::clamp(middle, -1.0 * beyond, 1.0 * kSlicesPerCell * blocks_.z())) + beyond) /
+                        kSlicesPerCell -
+                    1;
+  if (block < 0 || block >= blocks_.z() ||
+      !points_near_[(static_cast<std::size_t>(index[0][0] + 1) * blocks_.y() + (index[1][0] + 1)) * blocks_.z() +
+                    block])
+    return;
   // A slice's index, or one beyond the grid's either end.
   const auto slice = [&](double at) { return static_cast<int>(std::clamp(at, -1.0, static_cast<double>(cells_.z()))); };
   const int near_first = slice(middle - 1.0), near_last = slice(middle + 1.0);
