@@ -135,11 +135,13 @@ std::vector<std::uint32_t> joined_within(const Points& points, double gap, std::
     return false;
   };
   // Blocks 4 or more apart along an axis hold points over 1.5 gap apart; 3 apart, rounding aside, over gap.
-  for (auto a = block_of_key.begin(); a != block_of_key.end(); ++a)
-    for (auto b = std::next(a); b != block_of_key.end() && b->first[0] - a->first[0] <= 3; ++b)
-      if (std::abs(b->first[1] - a->first[1]) <= 3 && std::abs(b->first[2] - a->first[2]) <= 3 &&
-          root(a->second) != root(b->second) && touch(a->second, b->second))
-        parent[root(a->second)] = root(b->second);
+  // Neighbouring blocks are joined first: the farther pairs are then mostly one piece already, unchecked.
+  for (const std::int64_t apart : {1, 3})
+    for (auto a = block_of_key.begin(); a != block_of_key.end(); ++a)
+      for (auto b = std::next(a); b != block_of_key.end() && b->first[0] - a->first[0] <= apart; ++b)
+        if (std::abs(b->first[1] - a->first[1]) <= apart && std::abs(b->first[2] - a->first[2]) <= apart &&
+            root(a->second) != root(b->second) && touch(a->second, b->second))
+          parent[root(a->second)] = root(b->second);
   std::vector<std::uint32_t> number(members.size(), std::numeric_limits<std::uint32_t>::max()), piece(points.size());
   pieces = 0;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
