@@ -11,6 +11,7 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 
 #include "toolinc/ann/kdtree.hpp"
@@ -94,6 +95,63 @@ Points downsample(const Points& points, double voxel_size, const std::vector<std
   return voxel_means(keyed, points, masks, voxel_masks);
 }
 
+// A cell's key hashed: its coordinates mixed by large odd multipliers.
+struct CellHash {
+  std::size_t operator()(const std::array<std::int64_t, 3>& key) const {
+    return static_cast<std::size_t>(key[0] * 0x9E3779B97F4A7C15ull ^ key[1] * 0xC2B2AE3D27D4EB4Full ^
+                                    key[2] * 0x165667B19E3779F9ull);
+  }
+};
+
+// The pieces of points joined through points at most gap apart, numbered from 0 (count of them in pieces).
+// Points sharing a block of gap / 2 a side lie within 0.87 gap of each other, so each block is one piece
+// and only pairs of points in different blocks within reach need a check: the pieces of checking every
+// pair, for a fraction of the distances.
+std::vector<std::uint32_t> joined_within(const Points& points, double gap, std::uint32_t& pieces) {
+  using Key = std::array<std::int64_t, 3>;
+  std::map<Key, std::uint32_t> block_of_key;
+  std::vector<std::uint32_t> block(points.size());
+  std::vector<std::vector<std::uint32_t>> members;
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d c = (points[i] / (gap / 2.0)).array().floor();
+    const Key key{static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())};
+    const auto [it, added] = block_of_key.try_emplace(key, static_cast<std::uint32_t>(members.size()));
+    if (added) members.emplace_back();
+    block[i] = it->second;
+    members[it->second].push_back(i);
+  }
+  // Union-find over the blocks.
+  std::vector<std::uint32_t> parent(members.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto root = [&](std::uint32_t b) {
+    while (parent[b] != b) b = parent[b] = parent[parent[b]];
+    return b;
+  };
+  const double gap2 = gap * gap;
+  const auto touch = [&](std::uint32_t a, std::uint32_t b) {
+    for (const auto i : members[a])
+      for (const auto j : members[b])
+        if ((points[j] - points[i]).squaredNorm() <= gap2) return true;
+    return false;
+  };
+  // Blocks 4 or more apart along an axis hold points over 1.5 gap apart; 3 apart, rounding aside, over gap.
+  // Neighbouring blocks are joined first: the farther pairs are then mostly one piece already, unchecked.
+  for (const std::int64_t apart : {1, 3})
+    for (auto a = block_of_key.begin(); a != block_of_key.end(); ++a)
+      for (auto b = std::next(a); b != block_of_key.end() && b->first[0] - a->first[0] <= apart; ++b)
+        if (std::abs(b->first[1] - a->first[1]) <= apart && std::abs(b->first[2] - a->first[2]) <= apart &&
+            root(a->second) != root(b->second) && touch(a->second, b->second))
+          parent[root(a->second)] = root(b->second);
+  std::vector<std::uint32_t> number(members.size(), std::numeric_limits<std::uint32_t>::max()), piece(points.size());
+  pieces = 0;
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    auto& n = number[root(block[i])];
+    if (n == std::numeric_limits<std::uint32_t>::max()) n = pieces++;
+    piece[i] = n;
+  }
+  return piece;
+}
+
 }  // namespace
 
 Points voxel_downsample(const Points& points, double voxel_size) {
@@ -123,11 +181,35 @@ Points remove_isolated(const Points& points, double radius, std::size_t min_neig
 }
 
 std::vector<std::uint32_t> non_isolated(const Points& points, double radius, std::size_t min_neighbors) {
-  const KdTree tree(points);
+  // Cells a shade wider than the radius: a point's neighbours within it lie in its cell or the 26 around it,
+  // rounding aside. Its own cell, searched first, mostly holds enough of them.
+  using Key = std::array<std::int64_t, 3>;
+  const double cell_size = radius * (1.0 + 1e-9);
+  std::vector<Key> key(points.size());
+  std::unordered_map<Key, std::vector<std::uint32_t>, CellHash> cells;
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d c = (points[i] / cell_size).array().floor();
+    if (!(c.cwiseAbs().maxCoeff() < 0x1p62))
+      throw std::invalid_argument(fmt::format("radius {} m is too small for a point at ({}, {}, {}) m", radius,
+                                              points[i].x(), points[i].y(), points[i].z()));
+    key[i] = {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())};
+    cells[key[i]].push_back(i);
+  }
+  const double r2 = radius * radius;
+  const std::size_t enough = min_neighbors + 1;  // the point itself is counted, as a radius search counts it
   std::vector<std::uint32_t> kept;
   kept.reserve(points.size());
-  for (std::uint32_t i = 0; i < points.size(); ++i)  // the point itself is counted by the tree, hence the + 1
-    if (tree.count_within(points[i], radius, min_neighbors + 1) >= min_neighbors + 1) kept.push_back(i);
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    std::size_t count = 0;
+    for (int k = 0; k < 27 && count < enough; ++k) {
+      const int dx = (k + 1) % 3 - 1, dy = (k / 3 + 1) % 3 - 1, dz = (k / 9 + 1) % 3 - 1;  // own cell first
+      const auto cell = cells.find({key[i][0] + dx, key[i][1] + dy, key[i][2] + dz});
+      if (cell == cells.end()) continue;
+      for (const auto j : cell->second)
+        if ((points[j] - points[i]).squaredNorm() <= r2 && ++count >= enough) break;
+    }
+    if (count >= enough) kept.push_back(i);
+  }
   return kept;
 }
 
@@ -144,7 +226,8 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   // The pieces are joined on a grid an eighth of the gap fine, between the means of its cells: a dense
   // reconstruction has thousands of points within a gap of each, its cells a few hundred.
   const double cell_size = gap / 8.0;
-  std::map<std::array<std::int64_t, 3>, std::uint32_t> cell_of_key;
+  std::unordered_map<std::array<std::int64_t, 3>, std::uint32_t, CellHash> cell_of_key;
+  cell_of_key.reserve(beyond.size());
   std::vector<std::uint32_t> cell(points.size());
   Points sums;
   std::vector<int> counts;
@@ -163,23 +246,8 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   }
   Points means(sums.size());
   for (std::size_t c = 0; c < sums.size(); ++c) means[c] = sums[c] / counts[c];
-  // Each piece flooded from its first cell in the points' order, so the pieces do not depend on the tree's.
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  const KdTree tree(means);
-  std::vector<std::uint32_t> piece(means.size(), kNone), stack;
   std::uint32_t pieces = 0;
-  for (const auto i : beyond) {
-    if (piece[cell[i]] != kNone) continue;
-    piece[cell[i]] = pieces;
-    stack.push_back(cell[i]);
-    while (!stack.empty()) {
-      const std::uint32_t c = stack.back();
-      stack.pop_back();
-      for (const auto d : tree.within(means[c], gap))
-        if (piece[d] == kNone) piece[d] = pieces, stack.push_back(d);
-    }
-    ++pieces;
-  }
+  const std::vector<std::uint32_t> piece = joined_within(means, gap, pieces);
   std::vector<double> nearest(pieces, std::numeric_limits<double>::infinity());  // from the hand
   std::vector<int> sizes(pieces, 0);
   for (const auto i : beyond) {

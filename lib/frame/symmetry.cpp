@@ -18,7 +18,7 @@ constexpr double kCellMargin = 1e-9;
 // Cells are cut this many times thinner along z: a row of them holds its points in z order, so a lookup
 // scans only those within its bound's reach along z, which shrinks to the nearest point's distance once
 // that is found, rather than three cells' depth.
-constexpr double kSlicesPerCell = 4.0;
+constexpr int kSlicesPerCell = 4;
 
 }  // namespace
 
@@ -48,6 +48,20 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
   for (std::uint32_t i = 0; i < points.size(); ++i) by_cell_[next[cell_of(points[i])]++] = i;
   cell_points_.reserve(points.size());
   for (const auto i : by_cell_) cell_points_.push_back(points[i]);
+  blocks_ = Eigen::Array3i(cells_.x(), cells_.y(), (cells_.z() + kSlicesPerCell - 1) / kSlicesPerCell) + 2;
+  points_near_.assign(static_cast<std::size_t>(blocks_.prod()), 0);
+  // From a block's index, less one along each axis, to its own and its 26 neighbours' in points_near_.
+  std::vector<std::size_t> around;
+  for (int dx = 0; dx < 3; ++dx)
+    for (int dy = 0; dy < 3; ++dy)
+      for (int dz = 0; dz < 3; ++dz)
+        around.push_back((static_cast<std::size_t>(dx) * blocks_.y() + dy) * blocks_.z() + dz);
+  for (const auto& p : points) {
+    const Eigen::Array3i c = ((p - low_).array() / size_).floor().cast<int>().min(cells_ - 1);
+    const std::size_t block =
+        (static_cast<std::size_t>(c.x()) * blocks_.y() + c.y()) * blocks_.z() + c.z() / kSlicesPerCell;
+    for (const auto offset : around) points_near_[block + offset] = 1;
+  }
 }
 
 template <typename Visit>
@@ -67,6 +81,26 @@ void MirrorTarget::scan(const Vec3& query, double& bound2, Visit&& visit) const 
     index[a][0] = c, index[a][1] = c - 1, index[a][2] = c + 1;
     gap2[a][0] = 0.0, gap2[a][1] = below * below, gap2[a][2] = above * above;
   }
+  // Each row is scanned nearest first: the three slices about the query's height, then the rest of its
+  // reach above and below them only when the bound, lowered by what they held, still reaches beyond them.
+  const double height = (query.z() - low_.z()) / size_.z();  // in slices
+  const double middle = std::floor(height);
+  // Mirror images off the cloud mostly lie in a block with no point near, and nothing is within a cell of
+  // them. The query's block along z, in points_near_'s numbering: middle, a whole number, clamped to two
+  // blocks beyond the grid's ends so that it is not negative and the integer division rounds it down.
+  const int beyond = 2 * kSlicesPerCell;
+  const int block = (static_cast<int>(std::clamp(middle, -1.0 * beyond, 1.0 * kSlicesPerCell * blocks_.z())) + beyond) /
+                        kSlicesPerCell -
+                    1;
+  if (block < 0 || block >= blocks_.z() ||
+      !points_near_[(static_cast<std::size_t>(index[0][0] + 1) * blocks_.y() + (index[1][0] + 1)) * blocks_.z() +
+                    block])
+    return;
+  // A slice's index, or one beyond the grid's either end.
+  const auto slice = [&](double at) { return static_cast<int>(std::clamp(at, -1.0, static_cast<double>(cells_.z()))); };
+  const int near_first = slice(middle - 1.0), near_last = slice(middle + 1.0);
+  // A point nearer the query than this along z lies in those three slices.
+  const double clear = std::min(height - (middle - 1.0), middle + 2.0 - height) * size_.z() - margin;
   for (int i = 0; i < 3; ++i) {
     const int x = index[0][i];
     if (x < 0 || x >= cells_.x() || gap2[0][i] > bound2) continue;
@@ -76,16 +110,22 @@ void MirrorTarget::scan(const Vec3& query, double& bound2, Visit&& visit) const 
       if (y < 0 || y >= cells_.y() || xy > bound2) continue;
       // The row's points lie side by side in by_cell_ in z order: those within the bound lie within
       // sqrt(bound2 - xy) of the query along z, one run of slices.
-      const double reach = std::sqrt(bound2 - xy) + margin;
-      const double first = std::max(0.0, std::floor((query.z() - reach - low_.z()) / size_.z()));
-      const double last = std::min(cells_.z() - 1.0, std::floor((query.z() + reach - low_.z()) / size_.z()));
-      if (first > last) continue;
       const std::size_t row = (static_cast<std::size_t>(x) * cells_.y() + y) * cells_.z();
-      const std::uint32_t end = cell_begin_[row + static_cast<std::size_t>(last) + 1];
-      for (std::uint32_t n = cell_begin_[row + static_cast<std::size_t>(first)]; n < end; ++n) {
-        const double d2 = (cell_points_[n] - query).squaredNorm();
-        if (d2 <= bound2) visit(by_cell_[n], d2);
-      }
+      const auto slices = [&](int first, int last) {
+        first = std::max(first, 0), last = std::min(last, cells_.z() - 1);
+        if (first > last) return;
+        const std::uint32_t end = cell_begin_[row + last + 1];
+        for (std::uint32_t n = cell_begin_[row + first]; n < end; ++n) {
+          const double d2 = (cell_points_[n] - query).squaredNorm();
+          if (d2 <= bound2) visit(by_cell_[n], d2);
+        }
+      };
+      slices(near_first, near_last);
+      const double left = bound2 - xy;
+      if (left <= clear * clear) continue;
+      const double reach = (std::sqrt(left) + margin) / size_.z();
+      slices(slice(std::floor(height - reach)), near_first - 1);
+      slices(near_last + 1, slice(std::floor(height + reach)));
     }
   }
 }

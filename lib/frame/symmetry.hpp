@@ -53,6 +53,11 @@ class MirrorTarget {
   std::vector<std::uint32_t> cell_begin_;          // per slice, its first entry in by_cell_; one more at the end
   std::vector<std::uint32_t> by_cell_;             // the points' indices, slice after slice
   Points cell_points_;                             // the points in by_cell_'s order, side by side in memory
+  // Blocks a cell wide along every axis (kSlicesPerCell slices along z), one more all round the grid: whether
+  // a point lies in the block or one of the 26 around it. No point lies within a cell of a query in a block
+  // without, as most mirror images off the cloud are: their scan ends there.
+  Eigen::Array3i blocks_ = Eigen::Array3i::Zero();
+  std::vector<std::uint8_t> points_near_;
 };
 
 class SymmetryScorer {

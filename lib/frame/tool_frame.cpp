@@ -998,7 +998,10 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
             reversed ? other_side(frames[plane]) : frames[plane], source, plane == 0, reversed, {}, 0.0, std::nullopt};
         h.features = features_of(h.frame, p.cloud, held, plane == 0, config);
         h.log_odds = model.log_odds(h.features);
-        h.tooltip = tooltip_position(tooltip_cache, h.frame);  // none: nothing dense on its effector side
+        // None: nothing dense on its effector side. A stick's tip and a blade's far end do not depend on the
+        // side (the rule ignores the effector axis, and the plane is the same), so the other side's is the one's.
+        h.tooltip = reversed && (h.frame.stick || h.frame.tip_at_far_end()) ? hypotheses.back().tooltip
+                                                                            : tooltip_position(tooltip_cache, h.frame);
         hypotheses.push_back(std::move(h));
       }
   }

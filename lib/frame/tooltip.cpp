@@ -46,28 +46,33 @@ struct Pick {
 Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
   const Points& points = cache.points();
   const TooltipConfig& config = cache.config();
-  std::vector<std::uint32_t> candidates;
-  for (const auto i : cache.beyond_hand())
-    if ((points[i] - frame.origin).dot(frame.handle_axis()) < 0) candidates.push_back(i);
+  const Vec3 y = frame.handle_axis(), x = frame.effector_axis();
   // The density check needs a radius search, so it runs lazily, best candidates first.
   const auto dense = [&](std::uint32_t i) { return cache.dense(i); };
-  const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(frame.effector_axis()); };
+  const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(x); };
   // A stick's effector axis is arbitrary (nothing stands out from its handle), so "in front" means
   // nothing there: its tip is its far end, along the handle away from the hand.
   // A blade or scoop continuing the handle works with its far end: the farthest from the hand.
-  const auto primary = [&](std::uint32_t i) {
-    if (frame.stick) return -(points[i] - frame.origin).dot(frame.handle_axis());
+  const auto primary = [&](std::uint32_t i, double along) {
+    if (frame.stick) return -along;
     if (frame.tip_at_far_end()) return cache.from_hand(i);
     return config.rule == TooltipRule::furthest
                ? front(i)
                : config.effector_weight * front(i) + (1.0 - config.effector_weight) * cache.from_hand(i);
   };
+  // The candidates: the effector side's points (beyond the origin along the handle, away from the hand).
   // Best first by the primary score, ties by index, so the order does not depend on the sort's stability.
   // Only the best end is needed (the first dense candidate and those tied with it), so the candidates
   // within twice tie-tolerance of the best are sorted first, and the rest only if the search reaches them.
+  std::vector<std::uint32_t> candidates;
+  candidates.reserve(cache.beyond_hand().size());
   std::vector<double> s(points.size());
   double best_score = -std::numeric_limits<double>::infinity();
-  for (auto i : candidates) best_score = std::max(best_score, s[i] = primary(i));
+  for (const auto i : cache.beyond_hand())
+    if (const double along = (points[i] - frame.origin).dot(y); along < 0) {
+      candidates.push_back(i);
+      best_score = std::max(best_score, s[i] = primary(i, along));
+    }
   const auto better = [&](std::uint32_t a, std::uint32_t b) { return s[a] > s[b] || (s[a] == s[b] && a < b); };
   const auto top_end = std::partition(candidates.begin(), candidates.end(),
                                       [&](std::uint32_t i) { return s[i] >= best_score - 2 * config.tie_tolerance; });
