@@ -58,6 +58,19 @@ void radix_sort(std::vector<std::pair<std::uint64_t, std::uint32_t>>& keyed, std
   }
 }
 
+using CellKey = std::array<std::int64_t, 3>;
+
+// The cell of a grid `size` a side that holds p. Beyond 2^62 cells the cast to int64 is undefined (and NaN
+// never fits): a cell far too small for the points, or points from outside any physical range; the error
+// names the parameter that set the size.
+CellKey cell_of(const Vec3& p, double size, const char* parameter, double value) {
+  const Eigen::Vector3d c = (p / size).array().floor();
+  if (!(c.cwiseAbs().maxCoeff() < 0x1p62))
+    throw std::invalid_argument(
+        fmt::format("{} {} m is too small for a point at ({}, {}, {}) m", parameter, value, p.x(), p.y(), p.z()));
+  return {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())};
+}
+
 // voxel_downsample, with the voxels' masks when masks are given.
 Points downsample(const Points& points, double voxel_size, const std::vector<std::uint32_t>* masks,
                   std::vector<std::uint32_t>* voxel_masks) {
@@ -65,13 +78,8 @@ Points downsample(const Points& points, double voxel_size, const std::vector<std
   std::vector<Cell> cells(points.size());
   Cell lo = Cell::Constant(std::numeric_limits<std::int64_t>::max()), hi = -lo;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d cell = (points[i] / voxel_size).array().floor();
-    // Beyond 2^62 cells the cast to int64 is undefined (and NaN never fits): a voxel far too small for
-    // the points, or points from outside any physical range.
-    if (!(cell.cwiseAbs().maxCoeff() < 0x1p62))
-      throw std::invalid_argument(fmt::format("voxel size {} m is too small for a point at ({}, {}, {}) m", voxel_size,
-                                              points[i].x(), points[i].y(), points[i].z()));
-    cells[i] = cell.cast<std::int64_t>();
+    const CellKey key = cell_of(points[i], voxel_size, "voxel size", voxel_size);
+    cells[i] = Cell(key[0], key[1], key[2]);
     lo = lo.cwiseMin(cells[i]);
     hi = hi.cwiseMax(cells[i]);
   }
@@ -89,7 +97,7 @@ Points downsample(const Points& points, double voxel_size, const std::vector<std
     radix_sort(keyed, max_key);
     return voxel_means(keyed, points, masks, voxel_masks);
   }
-  std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> keyed(points.size());
+  std::vector<std::pair<CellKey, std::uint32_t>> keyed(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) keyed[i] = {{cells[i].x(), cells[i].y(), cells[i].z()}, i};
   std::sort(keyed.begin(), keyed.end());
   return voxel_means(keyed, points, masks, voxel_masks);
@@ -97,7 +105,7 @@ Points downsample(const Points& points, double voxel_size, const std::vector<std
 
 // A cell's key hashed: its coordinates mixed by large odd multipliers.
 struct CellHash {
-  std::size_t operator()(const std::array<std::int64_t, 3>& key) const {
+  std::size_t operator()(const CellKey& key) const {
     return static_cast<std::size_t>(key[0] * 0x9E3779B97F4A7C15ull ^ key[1] * 0xC2B2AE3D27D4EB4Full ^
                                     key[2] * 0x165667B19E3779F9ull);
   }
@@ -108,14 +116,12 @@ struct CellHash {
 // and only pairs of points in different blocks within reach need a check: the pieces of checking every
 // pair, for a fraction of the distances.
 std::vector<std::uint32_t> joined_within(const Points& points, double gap, std::uint32_t& pieces) {
-  using Key = std::array<std::int64_t, 3>;
-  std::map<Key, std::uint32_t> block_of_key;
+  std::map<CellKey, std::uint32_t> block_of_key;
   std::vector<std::uint32_t> block(points.size());
   std::vector<std::vector<std::uint32_t>> members;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d c = (points[i] / (gap / 2.0)).array().floor();
-    const Key key{static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())};
-    const auto [it, added] = block_of_key.try_emplace(key, static_cast<std::uint32_t>(members.size()));
+    const auto [it, added] = block_of_key.try_emplace(cell_of(points[i], gap / 2.0, "piece gap", gap),
+                                                      static_cast<std::uint32_t>(members.size()));
     if (added) members.emplace_back();
     block[i] = it->second;
     members[it->second].push_back(i);
@@ -183,16 +189,11 @@ Points remove_isolated(const Points& points, double radius, std::size_t min_neig
 std::vector<std::uint32_t> non_isolated(const Points& points, double radius, std::size_t min_neighbors) {
   // Cells a shade wider than the radius: a point's neighbours within it lie in its cell or the 26 around it,
   // rounding aside. Its own cell, searched first, mostly holds enough of them.
-  using Key = std::array<std::int64_t, 3>;
   const double cell_size = radius * (1.0 + 1e-9);
-  std::vector<Key> key(points.size());
-  std::unordered_map<Key, std::vector<std::uint32_t>, CellHash> cells;
+  std::vector<CellKey> key(points.size());
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d c = (points[i] / cell_size).array().floor();
-    if (!(c.cwiseAbs().maxCoeff() < 0x1p62))
-      throw std::invalid_argument(fmt::format("radius {} m is too small for a point at ({}, {}, {}) m", radius,
-                                              points[i].x(), points[i].y(), points[i].z()));
-    key[i] = {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())};
+    key[i] = cell_of(points[i], cell_size, "radius", radius);
     cells[key[i]].push_back(i);
   }
   const double r2 = radius * radius;
@@ -226,19 +227,14 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   // The pieces are joined on a grid an eighth of the gap fine, between the means of its cells: a dense
   // reconstruction has thousands of points within a gap of each, its cells a few hundred.
   const double cell_size = gap / 8.0;
-  std::unordered_map<std::array<std::int64_t, 3>, std::uint32_t, CellHash> cell_of_key;
+  std::unordered_map<CellKey, std::uint32_t, CellHash> cell_of_key;
   cell_of_key.reserve(beyond.size());
   std::vector<std::uint32_t> cell(points.size());
   Points sums;
   std::vector<int> counts;
   for (const auto i : beyond) {
-    const Eigen::Vector3d c = (points[i] / cell_size).array().floor();
-    if (!(c.cwiseAbs().maxCoeff() < 0x1p62))
-      throw std::invalid_argument(fmt::format("piece gap {} m is too small for a point at ({}, {}, {}) m", gap,
-                                              points[i].x(), points[i].y(), points[i].z()));
-    const auto [it, added] = cell_of_key.try_emplace(
-        {static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z())},
-        static_cast<std::uint32_t>(sums.size()));
+    const auto [it, added] = cell_of_key.try_emplace(cell_of(points[i], cell_size, "piece gap", gap),
+                                                     static_cast<std::uint32_t>(sums.size()));
     if (added) sums.push_back(Vec3::Zero()), counts.push_back(0);
     cell[i] = it->second;
     sums[it->second] += points[i];
