@@ -35,8 +35,11 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
   cell_ = std::max({tolerance * (1.0 + kCellMargin), (high - low_).maxCoeff() / kMaxCellsAlong, 1e-9});
   size_ = Eigen::Array3d(cell_, cell_, cell_ / kSlicesPerCell);
   cells_ = ((high - low_).array() / size_).floor().cast<int>() + 1;
+  const auto slice_of = [&](const Vec3& p) -> Eigen::Array3i {
+    return ((p - low_).array() / size_).floor().cast<int>().min(cells_ - 1);
+  };
   const auto cell_of = [&](const Vec3& p) {
-    const Eigen::Array3i c = ((p - low_).array() / size_).floor().cast<int>().min(cells_ - 1);
+    const Eigen::Array3i c = slice_of(p);
     return (static_cast<std::size_t>(c.x()) * cells_.y() + c.y()) * cells_.z() + c.z();
   };
   // A counting sort by cell, stable: each cell lists its points by ascending index.
@@ -57,7 +60,7 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
       for (int dz = 0; dz < 3; ++dz)
         around.push_back((static_cast<std::size_t>(dx) * blocks_.y() + dy) * blocks_.z() + dz);
   for (const auto& p : points) {
-    const Eigen::Array3i c = ((p - low_).array() / size_).floor().cast<int>().min(cells_ - 1);
+    const Eigen::Array3i c = slice_of(p);
     const std::size_t block =
         (static_cast<std::size_t>(c.x()) * blocks_.y() + c.y()) * blocks_.z() + c.z() / kSlicesPerCell;
     for (const auto offset : around) points_near_[block + offset] = 1;

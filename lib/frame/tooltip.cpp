@@ -16,6 +16,7 @@
 #include "toolinc/ann/kdtree.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/scatter.hpp"
+#include "toolinc/core/statistics.hpp"
 
 namespace toolinc {
 
@@ -180,13 +181,7 @@ double across_blade_spread(const Points& points, const ToolFrame& f, const Vec3&
   std::vector<double> across;
   for (const auto& q : points)
     if (radial_distance(line, q) <= radius) across.push_back((q - point).dot(line.axis));
-  if (across.size() < 2) return 0.0;
-  const auto at = [&](double share) {
-    const auto nth = across.begin() + static_cast<std::ptrdiff_t>(share * static_cast<double>(across.size() - 1));
-    std::nth_element(across.begin(), nth, across.end());
-    return *nth;
-  };
-  return at(0.9) - at(0.1);
+  return quantile(across, 0.9) - quantile(across, 0.1);
 }
 
 // The rule's tips at these surface points, each projected onto f's symmetry plane and moved back off the
