@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   toolinc::add_tool_frame_options(command.cli(), config);
   return command.run(argc, argv, [&] {
     const auto cloud = toolinc::load_cloud(input);
-    const auto frame = toolinc::estimate_tool_frame(cloud.points, config, cloud.viewpoints);
+    const auto frame = toolinc::estimate_tool_frame(cloud.points, config, cloud.viewpoints, cloud.views);
     spdlog::info("handle axis refined by {:.1f} deg from the major axis; symmetry score {:.3f}; {}",
                  frame.diagnostics.handle_refinement_deg, frame.symmetry_score,
                  frame.diagnostics.salient_effector ? "salient effector" : "no salient effector");

@@ -254,7 +254,7 @@ py::object estimate_tool_frame_py(const py::handle& cloud, const py::object& con
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
   return typed<ToolFrameResult>(
-      tool_frame_json(estimate_tool_frame(c.points, frame_config, c.viewpoints), frame_config));
+      tool_frame_json(estimate_tool_frame(c.points, frame_config, c.viewpoints, c.views), frame_config));
 }
 
 py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, const py::object& config,
@@ -271,7 +271,7 @@ py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, con
   const ToolFrame given = frame.is_none() ? ToolFrame{} : frame_from_python(frame);
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
-  const ToolFrame used = frame.is_none() ? estimate_tool_frame(c.points, frame_config, c.viewpoints) : given;
+  const ToolFrame used = frame.is_none() ? estimate_tool_frame(c.points, frame_config, c.viewpoints, c.views) : given;
   return typed<TooltipResult>(
       tooltip_json(find_tooltip(c.points, used, tooltip_config, c.views), used, tooltip_config));
 }

@@ -867,16 +867,22 @@ ToolFrame other_side(ToolFrame frame) {
 // the part the hand holds (held-share), the same points for every hypothesis.
 std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const Points& held,
                                                bool rules_plane, const ToolFrameConfig& c) {
-  const Vec3 x = f.effector_axis(), y = f.handle_axis();
+  const Vec3 x = f.effector_axis(), y = f.handle_axis(), z = f.symmetry_axis();
   const Cylinder handle{f.handle_point, y, 0.0, 0.0};
   // The head's mean point along +X, against its points' mean distance from the handle's axis: the side its
   // material lies on (-1 to 1), which smear moves little.
   double head_x = 0.0, head_out = 0.0;
-  for (const auto& p : cloud) {
-    const double out = radial_distance(handle, p);
-    if ((p - f.diagnostics.centroid).dot(y) < 0 && out >= c.head_radius_factor * f.handle_radius)
-      head_x += (p - f.handle_point).dot(x), head_out += out;
+  std::vector<std::uint32_t> head;
+  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+    const double out = radial_distance(handle, cloud[i]);
+    if ((cloud[i] - f.diagnostics.centroid).dot(y) < 0 && out >= c.head_radius_factor * f.handle_radius)
+      head_x += (cloud[i] - f.handle_point).dot(x), head_out += out, head.push_back(i);
   }
+  // Seen along the handle, a bar-like head (L, T, hook) lies along the effector axis, as the tool's frame
+  // defines it; a T's two mirror planes, or a plane tilted by a slightly tilted handle, mirror alike.
+  double bar_along_x = 0.0;
+  if (const auto line = head_line(cloud, head, f.handle_point, x, z, c))
+    bar_along_x = std::sin(line->normal_angle) * std::sin(line->normal_angle);
   const double forward = f.diagnostics.effector_reach_positive, backward = f.diagnostics.effector_reach_negative;
   // The hand closes on the handle: the held part lies within what it closes on of the handle's line.
   int off_line = 0;
@@ -896,6 +902,7 @@ std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points&
       std::tanh(f.diagnostics.head_curl / c.head_curl_min),
       head_out > 0.0 ? head_x / head_out : 0.0,  // the head's side
       f.tip_at_far_end() ? 1.0 : 0.0,            // a blade or scoop continuing the handle: its tip its far end
+      bar_along_x,  // a bar-like head (head-line-elongation) along X: cos^2 of their angle; 0 for other heads
   };
 }
 
@@ -932,7 +939,8 @@ const std::array<const char*, kFrameFeatures>& frame_feature_names() {
                                                              "effector_reach_asymmetry",
                                                              "head_curl_saturated",
                                                              "head_side",
-                                                             "blade_or_scoop"};
+                                                             "blade_or_scoop",
+                                                             "head_bar_along_effector"};
   return names;
 }
 
@@ -965,7 +973,8 @@ double FrameScoreModel::log_odds(const std::array<double, kFrameFeatures>& featu
 }
 
 std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFrameConfig& config,
-                                              const Points& viewpoints, const FrameScoreModel& model) {
+                                              const Points& viewpoints, const FrameScoreModel& model,
+                                              const std::vector<std::uint32_t>& views) {
   const Prepared p = prepare(input, config);
   const FreeSpace free_space(p.cloud, viewpoints);
   const FreeSpace* seen = viewpoints.empty() ? nullptr : &free_space;
@@ -973,7 +982,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   TooltipConfig tooltip_config;
   share_hand_settings(config, tooltip_config);
   const KdTree tree(input);
-  const TooltipCache tooltip_cache(input, tree, tooltip_config, p.held);  // shared by every hypothesis's tooltip
+  const TooltipCache tooltip_cache(input, tree, tooltip_config, p.held, views);  // shared by every hypothesis's tooltip
   // The hand holds the handle: a candidate whose line passes beyond grasp-reach from it is no hypothesis,
   // unless every candidate does.
   auto candidates = handle_candidates(p.cloud, p.principal, config);
@@ -1008,9 +1017,10 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   return hypotheses;
 }
 
-ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints) {
+ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints,
+                              const std::vector<std::uint32_t>& views) {
   if (config.method == FrameMethod::search) {
-    const auto hypotheses = frame_hypotheses(input, config, viewpoints);
+    const auto hypotheses = frame_hypotheses(input, config, viewpoints, fitted_frame_score(), views);
     std::vector<std::size_t> order(hypotheses.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(),

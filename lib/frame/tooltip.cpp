@@ -44,12 +44,13 @@ struct Pick {
   int candidates = 0, rejected_sparse = 0;
 };
 
-Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
+// with_views: a candidate must also pass tip-views.
+Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   const Points& points = cache.points();
   const TooltipConfig& config = cache.config();
   const Vec3 y = frame.handle_axis(), x = frame.effector_axis();
   // The density check needs a radius search, so it runs lazily, best candidates first.
-  const auto dense = [&](std::uint32_t i) { return cache.dense(i); };
+  const auto dense = [&](std::uint32_t i) { return cache.dense(i) && (!with_views || cache.seen_by_enough(i)); };
   const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(x); };
   // A stick's effector axis is arbitrary (nothing stands out from its handle), so "in front" means
   // nothing there: its tip is its far end, along the handle away from the hand.
@@ -130,6 +131,15 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
     if (t > best) best = t, p.chosen = i;
   }
   p.score = s[p.chosen];
+  return p;
+}
+
+// The rule's pick among the candidates tip-views allows (a blade's far end), or among them all when it
+// allows none.
+Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
+  const bool with_views = cache.config().tip_views > 1 && cache.views_in_cloud() > 1 && frame.tip_at_far_end();
+  Pick p = pick(cache, frame, with_views);
+  if (with_views && p.chosen == KdTree::npos) p = pick(cache, frame, false);
   return p;
 }
 
@@ -220,15 +230,10 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
 
 // A tip that one view alone saw, in a cloud that several saw, is backed by nothing else: a blob may take
 // in a patch of the scene behind the tool that no other view looks at, and then the tip goes onto it.
-void check_seen_by_several(Tooltip& tip, const KdTree& tree, const std::vector<std::uint32_t>& views,
-                           const TooltipConfig& config) {
-  if (views.size() != tree.points().size())
-    throw std::invalid_argument("find_tooltip: views must be empty or one per point");
-  std::uint32_t in_cloud = 0, at_tip = 0;
-  for (const auto v : views) in_cloud |= v;
-  for (const auto i : tree.within(tip.surface_point, config.density_radius)) at_tip |= views[i];
-  tip.views_in_cloud = static_cast<int>(std::bitset<32>(in_cloud).count());
-  tip.views_at_tip = static_cast<int>(std::bitset<32>(at_tip).count());
+void check_seen_by_several(Tooltip& tip, const TooltipCache& cache) {
+  const TooltipConfig& config = cache.config();
+  tip.views_in_cloud = cache.views_in_cloud();
+  tip.views_at_tip = cache.views_near(tip.surface_point, config.density_radius);
   if (tip.views_in_cloud > 1)
     tip.confidence.check(tip.views_at_tip > 1 ? 1.0 : 0.0,
                          fmt::format("the tip's points (within density-radius, {:.0f} mm) were seen by one view only "
@@ -238,13 +243,39 @@ void check_seen_by_several(Tooltip& tip, const KdTree& tree, const std::vector<s
 
 }  // namespace
 
-TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config)
-    : TooltipCache(points, tree, config, held_piece(points, config.hand_radius, config.piece_gap)) {}
+TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config,
+                           std::vector<std::uint32_t> views)
+    : TooltipCache(points, tree, config, held_piece(points, config.hand_radius, config.piece_gap), std::move(views)) {}
 
-TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held)
-    : points_(points), tree_(tree), config_(config), held_(std::move(held)), dense_(points.size(), -1) {
+TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held,
+                           std::vector<std::uint32_t> views)
+    : points_(points),
+      tree_(tree),
+      config_(config),
+      held_(std::move(held)),
+      views_(std::move(views)),
+      dense_(points.size(), -1),
+      seen_(points.size(), -1) {
+  if (!views_.empty() && views_.size() != points.size())
+    throw std::invalid_argument("find_tooltip: views must be empty or one per point");
+  std::uint32_t in_cloud = 0;
+  for (const auto v : views_) in_cloud |= v;
+  views_in_cloud_ = static_cast<int>(std::bitset<32>(in_cloud).count());
   from_hand_.reserve(points.size());
   for (const auto& p : points) from_hand_.push_back(p.norm());
+}
+
+int TooltipCache::views_near(const Vec3& point, double radius) const {
+  if (views_.empty()) return 0;
+  std::uint32_t near = 0;
+  for (const auto i : tree_.within(point, radius)) near |= views_[i];
+  return static_cast<int>(std::bitset<32>(near).count());
+}
+
+bool TooltipCache::seen_by_enough(std::uint32_t index) const {
+  if (seen_[index] < 0)
+    seen_[index] = views_near(points_[index], config_.tip_edge_radius) >= std::min(config_.tip_views, views_in_cloud_);
+  return seen_[index] == 1;
 }
 
 bool TooltipCache::dense(std::uint32_t index) const {
@@ -279,7 +310,7 @@ Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const Tooltip
 
 Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config,
                      const std::vector<std::uint32_t>& views) {
-  return find_tooltip(TooltipCache(points, tree, config), frame, views);
+  return find_tooltip(TooltipCache(points, tree, config, views), frame);
 }
 
 std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame) {
@@ -290,7 +321,7 @@ std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame&
   return edges_on_plane(cache.points(), frame, {cache.points()[p.chosen]}, cache.config())[0];
 }
 
-Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame, const std::vector<std::uint32_t>& views) {
+Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
   const Points& points = cache.points();
   const KdTree& tree = cache.tree();
   const TooltipConfig& config = cache.config();
@@ -378,7 +409,7 @@ Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame, const st
                        fmt::format("another tip {:.0f} mm away scores as well (a tied point, a tied or rival symmetry "
                                    "plane, the other effector side), beyond ambiguity-distance ({:.0f} mm)",
                                    1000 * farthest, 1000 * config.ambiguity_distance));
-  if (!views.empty()) check_seen_by_several(tip, tree, views, config);
+  if (!cache.views().empty()) check_seen_by_several(tip, cache);
   return tip;
 }
 

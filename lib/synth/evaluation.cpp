@@ -27,7 +27,7 @@ HeldToolErrors frame_and_tooltip_errors(const PointCloud& observed, const ToolGr
   HeldToolErrors errors;
   const Points& cloud = observed.points;
   try {
-    const ToolFrame frame = estimate_tool_frame(cloud, frame_config, observed.viewpoints);
+    const ToolFrame frame = estimate_tool_frame(cloud, frame_config, observed.viewpoints, observed.views);
     const Tooltip tip = find_tooltip(cloud, frame, tooltip_config, observed.views);
     errors.right_handed = is_rotation(frame.axes, 1e-9);
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
@@ -132,10 +132,12 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
   if (!m.failure.empty()) return labelled;
   const bool salient = tool_symmetry(config) == ToolSymmetry::mirror;
   try {
-    for (const auto& h : frame_hypotheses(m.merged.model.points, pipeline.frame, m.merged.model.viewpoints)) {
+    const PointCloud& model = m.merged.model;
+    for (const auto& h :
+         frame_hypotheses(model.points, pipeline.frame, model.viewpoints, fitted_frame_score(), model.views)) {
       double error = std::numeric_limits<double>::infinity();
       try {
-        error = tooltip_error(m.relative, find_tooltip(m.merged.model.points, h.frame, pipeline.tooltip).position);
+        error = tooltip_error(m.relative, find_tooltip(model.points, h.frame, pipeline.tooltip, model.views).position);
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
       const bool effector_right = !salient || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;

@@ -73,8 +73,8 @@ void BM_WholePipeline(benchmark::State& state) {
   const CropConfig crop = crop_config(stereo);
   for (auto _ : state) {
     const MergeResult merged = merge_views(crop_all(s, crop));
-    const ToolFrame frame = estimate_tool_frame(merged.model.points, {}, merged.model.viewpoints);
-    benchmark::DoNotOptimize(find_tooltip(merged.model.points, frame));
+    const ToolFrame frame = estimate_tool_frame(merged.model.points, {}, merged.model.viewpoints, merged.model.views);
+    benchmark::DoNotOptimize(find_tooltip(merged.model.points, frame, {}, merged.model.views));
   }
   state.SetLabel(to_string(stereo));
 }

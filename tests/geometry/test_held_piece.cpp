@@ -1,9 +1,9 @@
 // The tool is what the hand holds, and a tip one view alone saw is doubtful. Generated tools held with a
 // random grasp (6 cm hand cut, sigma 1.5 mm noise), with a patch of scene points added: detached, 15 cm
 // beyond the true tip (as a blob that took in the scene behind a stick at the image's edge), or attached
-// and seen by one view only. Tolerance: the tooltip of a clean tool lies within 20 mm of the truth (one
-// surface point under 1.5 mm noise: ~5 mm, and never beyond 20 mm in test_tool_frame's loops); a patch
-// the method ignores leaves the tip exactly where it is without the patch.
+// and seen by one view only (a patch of scene, or one view's smear beyond a blade's far end). Tolerance: the tooltip of
+// a clean tool lies within 20 mm of the truth (one surface point under 1.5 mm noise: ~5 mm, and never beyond 20 mm in
+// test_tool_frame's loops); a patch the method ignores leaves the tip exactly where it is without the patch.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -156,4 +156,38 @@ TEST(HeldPiece, TipSeenByOneViewOnlyIsDoubtful) {
       EXPECT_EQ(unlabelled.tip.views_in_cloud, 0);
       EXPECT_FALSE(doubts_one_view(unlabelled.tip.confidence));
     }
+}
+
+TEST(HeldPiece, SmearOneViewLaidBeyondABladesFarEndIsNotItsTip) {
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE("shovel, seed " + std::to_string(seed));
+    const auto held = make_held_tool(ToolFamily::shovel, 7300u + seed);
+    Rng rng(seed);
+    std::vector<std::uint32_t> views;
+    for (std::size_t i = 0; i < held.observed.size(); ++i) views.push_back(rng.uniform(0.0, 1.0) < 0.5 ? 1u : 2u);
+    const Result clean = frame_and_tip(held.observed, ToolFrameConfig{}.piece_gap, views);
+    ASSERT_TRUE(clean.frame.tip_at_far_end());
+    ASSERT_LT(tooltip_error(held.truth, clean.tip.position), kTipTolerance);
+    // A third view's smear: a 2 cm wide strip joined to the far end, 3 cm on beyond it along the handle.
+    const Vec3 tip = true_tip(held.truth, clean.tip.position), out = -clean.frame.handle_axis();
+    Points cloud = held.observed;
+    for (double s = 0.0; s <= 0.03; s += kSpacing) {
+      const Points row = patch(tip + (s + kSpacing) * out, clean.frame.effector_axis(), 0.02, rng);
+      for (const auto& p : row)
+        if (std::abs((p - tip).dot(out) - s - kSpacing) < kSpacing) cloud.push_back(p), views.push_back(4u);
+    }
+    TooltipConfig config;
+    const ToolFrame frame = estimate_tool_frame(cloud, {}, {}, views);
+    ASSERT_TRUE(frame.tip_at_far_end());
+    const Tooltip smeared = find_tooltip(cloud, frame, config, views);
+    EXPECT_LT(tooltip_error(held.truth, smeared.position), kTipTolerance);
+    EXPECT_GT(smeared.views_at_tip, 1);
+    // Any view's points allowed, the tip goes onto the smear.
+    config.tip_views = 1;
+    EXPECT_GT(tooltip_error(held.truth, find_tooltip(cloud, frame, config, views).position), 0.025);
+    // Every point one view's: nothing to tell the smear by, and the far end is still found.
+    config.tip_views = 2;
+    EXPECT_EQ(find_tooltip(cloud, frame, config, std::vector<std::uint32_t>(cloud.size(), 1u)).position,
+              find_tooltip(cloud, frame, config).position);
+  }
 }

@@ -16,7 +16,7 @@
 
 namespace toolinc {
 
-constexpr int kFrameFeatures = 11;
+constexpr int kFrameFeatures = 12;
 
 // The features' names, in order, as the weights file has them.
 const std::array<const char*, kFrameFeatures>& frame_feature_names();
@@ -51,9 +51,10 @@ double tooltip_probability(const std::vector<double>& scores, const std::vector<
 
 // Every hypothesis, scored by `model`, in a fixed order (candidate handles as listed above; about each the
 // rules' plane, then its alternatives; on each plane the rules' side, then the other). Throws MethodError on degenerate
-// input, as estimate_tool_frame does.
+// input, as estimate_tool_frame does; viewpoints and views as it takes them.
 std::vector<FrameHypothesis> frame_hypotheses(const Points& points, const ToolFrameConfig& config = {},
                                               const Points& viewpoints = {},
-                                              const FrameScoreModel& model = fitted_frame_score());
+                                              const FrameScoreModel& model = fitted_frame_score(),
+                                              const std::vector<std::uint32_t>& views = {});
 
 }  // namespace toolinc

@@ -200,9 +200,11 @@ Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle
 const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius);
 
 // points: the tool in the hand frame (the hand at the origin). viewpoints (optional): where the sensors
-// saw it from (hand frame), so that parts never seen do not count against a symmetry plane. Throws
-// MethodError with the reason on degenerate input (too few points, collinear, planar, everything inside
-// the hand radius).
-ToolFrame estimate_tool_frame(const Points& points, const ToolFrameConfig& config = {}, const Points& viewpoints = {});
+// saw it from (hand frame), so that parts never seen do not count against a symmetry plane. views
+// (optional, one per point): which of the views merged into the cloud saw each point, for the search's
+// hypotheses' tooltips (find_tooltip's). Throws MethodError with the reason on degenerate input (too few
+// points, collinear, planar, everything inside the hand radius).
+ToolFrame estimate_tool_frame(const Points& points, const ToolFrameConfig& config = {}, const Points& viewpoints = {},
+                              const std::vector<std::uint32_t>& views = {});
 
 }  // namespace toolinc

@@ -40,6 +40,13 @@ struct TooltipConfig {
   double fringe_depth = 0.01;        // m: how deep a fringe of fattened or misregistered surface may lie
                                      //    beyond the true edge (the robot's clouds: a tenth of their points
                                      //    lie more than 11 mm off the surface); 0: no fringe
+  int tip_views = 2;                 // in a merge of views, a blade's far end counts only where the points
+                                     //    within tip-edge-radius of it were seen by this many views (or all
+                                     //    the cloud's, if fewer): smear stretches a plate's edge along one
+                                     //    view's rays, where no other view saw anything, while the plate
+                                     //    faces several. A hook's or hoe's front may face one view alone, and
+                                     //    the weighted rule takes it. A blade none of whose points pass keeps
+                                     //    every candidate. 1: any
 };
 
 // The tooltip ignores the hand and what it does not hold as the frame does: its hand-radius and piece-gap.
@@ -86,9 +93,12 @@ double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction
 // computed when first needed. Not thread-safe (it caches); points and tree (over points) must outlive it.
 class TooltipCache {
  public:
-  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config);
+  // views (empty, or one per point): which of the views merged into the cloud saw each point.
+  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config,
+               std::vector<std::uint32_t> views = {});
   // The same with the held piece already found (held_piece with the config's hand-radius and piece-gap).
-  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held);
+  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held,
+               std::vector<std::uint32_t> views = {});
 
   const Points& points() const { return points_; }
   const KdTree& tree() const { return tree_; }
@@ -99,6 +109,12 @@ class TooltipCache {
   const HeldPiece& held() const { return held_; }
   // Whether the point has more than min-neighbors others within density-radius.
   bool dense(std::uint32_t index) const;
+  const std::vector<std::uint32_t>& views() const { return views_; }
+  int views_in_cloud() const { return views_in_cloud_; }  // how many views saw the cloud (0: no view labels)
+  // How many views saw the points within radius of the point (0 without view labels).
+  int views_near(const Vec3& point, double radius) const;
+  // Whether the points within tip-edge-radius of the point were seen by tip-views views, or by all the cloud's.
+  bool seen_by_enough(std::uint32_t index) const;
   // The point's smoothing-neighbors nearest points (itself included), nearest first.
   const std::vector<KdTree::Neighbor>& smoothing_neighbors(std::uint32_t index) const;
 
@@ -108,20 +124,24 @@ class TooltipCache {
   TooltipConfig config_;
   std::vector<double> from_hand_;
   HeldPiece held_;
+  std::vector<std::uint32_t> views_;
+  int views_in_cloud_ = 0;
   mutable std::vector<std::int8_t> dense_;  // per point: 1 dense, 0 sparse, -1 not checked yet
+  mutable std::vector<std::int8_t> seen_;   // per point: 1 seen by enough views, 0 not, -1 not checked yet
   mutable std::unordered_map<std::uint32_t, std::vector<KdTree::Neighbor>> smoothing_;  // of the points searched
 };
 
 // Throws MethodError when no effector-side point passes the density check. views (empty, or one per point):
-// which of the views merged into the cloud saw each point (PointCloud::views); when the cloud has several
-// and the points within density-radius of the tip all come from one, the tip is doubtful.
+// which of the views merged into the cloud saw each point (PointCloud::views); they decide tip-views, and
+// when the cloud has several and the points within density-radius of the tip all come from one, the tip is
+// doubtful.
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config = {},
                      const std::vector<std::uint32_t>& views = {});
 // The same with the points' tree already built (tree over points).
 Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& frame, const TooltipConfig& config,
                      const std::vector<std::uint32_t>& views = {});
-// The same with what the rule measures of the cloud kept from other frames of it, with the cache's config.
-Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame, const std::vector<std::uint32_t>& views = {});
+// The same with what the rule measures of the cloud kept from other frames of it, with the cache's config and views.
+Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame);
 // find_tooltip's position alone (nothing where it throws), without the noise, the tied points' spread and
 // the alternatives it measures around it: what the search needs of each hypothesis, at a fraction of the cost.
 std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame);
