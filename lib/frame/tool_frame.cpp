@@ -862,34 +862,45 @@ ToolFrame other_side(ToolFrame frame) {
   return frame;
 }
 
+// What the features measure about a handle alone, whatever the plane and side: the head's points (the
+// effector side's beyond head-radius-factor handle radii of its axis) and their summed distance from it,
+// and the share of the part the hand holds (held-share) that lies off the handle's line, beyond what the
+// hand closes on.
+struct HandleFeatures {
+  const std::vector<std::uint32_t>& head;
+  double head_out = 0.0;
+  double held_off_line = 0.0;
+};
+HandleFeatures handle_features(const AboutHandle& about, const Points& cloud, const Points& held,
+                               const ToolFrameConfig& c) {
+  HandleFeatures features{about.head};
+  for (const auto i : about.head) features.head_out += radial_distance(about.line, cloud[i]);
+  int off_line = 0;
+  for (const auto& p : held) off_line += radial_distance(about.line, p) > c.grasp_max_radius;
+  if (!held.empty()) features.held_off_line = static_cast<double>(off_line) / static_cast<double>(held.size());
+  return features;
+}
+
 // A hypothesis's features, each in units of the parameter that gives it its physical scale and each
-// comparable between hypotheses (measured the same way whatever the candidate handle came from). held:
-// the part the hand holds (held-share), the same points for every hypothesis.
-std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const Points& held,
+// comparable between hypotheses (measured the same way whatever the candidate handle came from).
+std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const HandleFeatures& handle,
                                                bool rules_plane, const ToolFrameConfig& c) {
-  const Vec3 x = f.effector_axis(), y = f.handle_axis();
-  const Cylinder handle{f.handle_point, y, 0.0, 0.0};
+  const Vec3 x = f.effector_axis();
   // The head's mean point along +X, against its points' mean distance from the handle's axis: the side its
   // material lies on (-1 to 1), which smear moves little.
-  double head_x = 0.0, head_out = 0.0;
-  for (const auto& p : cloud) {
-    const double out = radial_distance(handle, p);
-    if ((p - f.diagnostics.centroid).dot(y) < 0 && out >= c.head_radius_factor * f.handle_radius)
-      head_x += (p - f.handle_point).dot(x), head_out += out;
-  }
+  double head_x = 0.0;
+  for (const auto i : handle.head) head_x += (cloud[i] - f.handle_point).dot(x);
+  const double head_out = handle.head_out;
   const double forward = f.diagnostics.effector_reach_positive, backward = f.diagnostics.effector_reach_negative;
-  // The hand closes on the handle: the held part lies within what it closes on of the handle's line.
-  int off_line = 0;
-  for (const auto& p : held) off_line += radial_distance(handle, p) > c.grasp_max_radius;
   const double reach = f.diagnostics.hand_to_handle / c.grasp_reach, radius = f.handle_radius / c.grasp_max_radius;
   return {
       reach,  // the handle's line's distance from the hand
       std::max(0.0, f.diagnostics.hand_to_handle - c.grasp_hold) / c.grasp_hold,  // ... beyond the hand's hold
       radius,                       // the handle's radius against what the hand closes on
       std::max(0.0, radius - 1.0),  // ... beyond it
-      held.empty() ? 0.0 : static_cast<double>(off_line) / static_cast<double>(held.size()),  // held part off it
-      f.symmetry_score,         // the head's mirror residual
-      rules_plane ? 1.0 : 0.0,  // the plane the rules choose about this handle, not an alternative
+      handle.held_off_line,         // the held part off it (the hand closes on the handle)
+      f.symmetry_score,             // the head's mirror residual
+      rules_plane ? 1.0 : 0.0,      // the plane the rules choose about this handle, not an alternative
       // How much farther the effector reaches along +X than along -X, as a share of both (-1 to 1)
       forward + backward > 0.0 ? (forward - backward) / (forward + backward) : 0.0,
       // The head's edges rising towards +X (a scoop's concave side), saturating once clear of the noise
@@ -988,6 +999,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   for (const auto& [source, handle] : candidates) {
     const AboutHandle about(p.cloud, p.principal, handle, target, seen, config);
     const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config);
+    const HandleFeatures handle_measures = handle_features(about, p.cloud, held, config);
     std::vector<ToolFrame> frames{as_hypothesis(rules, config)};
     for (const double angle : alternative_planes_deg(rules))
       frames.push_back(
@@ -996,7 +1008,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
       for (const bool reversed : {false, true}) {
         FrameHypothesis h{
             reversed ? other_side(frames[plane]) : frames[plane], source, plane == 0, reversed, {}, 0.0, std::nullopt};
-        h.features = features_of(h.frame, p.cloud, held, plane == 0, config);
+        h.features = features_of(h.frame, p.cloud, handle_measures, plane == 0, config);
         h.log_odds = model.log_odds(h.features);
         // None: nothing dense on its effector side. A stick's tip and a blade's far end do not depend on the
         // side (the rule ignores the effector axis, and the plane is the same), so the other side's is the one's.
