@@ -39,12 +39,9 @@ Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale
   const auto huber = [&](double e) {
     return std::abs(e) <= huber_scale ? 0.5 * e * e : huber_scale * (std::abs(e) - 0.5 * huber_scale);
   };
-  // The cost, or once its running sum reaches `limit` (its terms are not negative, so the sum can only grow)
-  // that sum: enough to tell that a step does not improve.
-  const auto cost = [&](const Cylinder& c, const Eigen::VectorXd& r, double limit) {
+  const auto cost = [&](const Cylinder& c, const Eigen::VectorXd& r) {
     double sum = 0.0;
-    for (std::size_t i = 0; i < points.size() && sum < limit; ++i)
-      sum += huber(radial_distance(c, points[i]) - r[section[i]]);
+    for (std::size_t i = 0; i < points.size(); ++i) sum += huber(radial_distance(c, points[i]) - r[section[i]]);
     return sum;
   };
   double lambda = 1e-3;
@@ -95,7 +92,7 @@ Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale
       candidate.axis = (best.axis + step[0] * u + step[1] * v).normalized();
       candidate.point = best.point + step[2] * u + step[3] * v;
       const Eigen::VectorXd next = radii + step.tail(sections);
-      if (next.minCoeff() > 0 && cost(candidate, next, current) < current) {
+      if (next.minCoeff() > 0 && cost(candidate, next) < current) {
         best.axis = candidate.axis, best.point = candidate.point, radii = next;
         lambda = std::max(lambda / 10.0, 1e-7);
         improved = true;

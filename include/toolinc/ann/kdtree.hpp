@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -48,7 +49,7 @@ class KdTree {
     double split_value;
   };
   struct Entry {
-    Vec3 point;
+    std::array<double, 3> point;  // plain data, which the partitions move as bytes
     std::uint32_t index;
   };
   std::int32_t build(std::vector<Entry>& entries, std::uint32_t begin, std::uint32_t end, int leaf_size);
