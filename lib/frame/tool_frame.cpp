@@ -194,7 +194,7 @@ double effector_extent(const Points& cloud, const Vec3& side_point, const Cylind
   std::vector<double> radial;
   for (const auto& p : cloud)
     if ((p - side_point).dot(line.axis) < 0) radial.push_back(radial_distance(line, p));
-  return radial.empty() ? 0.0 : quantile(radial, q);
+  return radial.empty() ? 0.0 : quantile(std::move(radial), q);
 }
 
 // A stick's handle: its principal line, signed towards the hand, the radius its points' median distance.
@@ -234,7 +234,7 @@ Curl head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, cons
     width.push_back(std::abs(z));
   }
   const Eigen::Vector3d coefficients = normal.ldlt().solve(right);
-  const double half_width = quantile(width, 0.9);
+  const double half_width = quantile(std::move(width), 0.9);
   return {coefficients(2) * half_width * half_width, half_width};
 }
 
@@ -304,7 +304,7 @@ std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint
                                 const ToolFrameConfig& config) {
   std::vector<double> along;
   for (auto i : head) along.push_back((cloud[i] - handle_point).dot(y_axis));
-  const double band = kBarBand * handle_radius, far_end = quantile(along, 0.01);
+  const double band = kBarBand * handle_radius, far_end = quantile(std::move(along), 0.01);
   Points bar;
   Vec3 mean = Vec3::Zero();
   for (auto i : head) {
@@ -326,6 +326,12 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud,
                                                            const std::vector<std::uint32_t>& head) {
   const auto spread = scatter_of<3>(head.size(), [&](std::size_t j) { return cloud[head[j]]; });
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread.scatter);
+}
+
+// The extent of the values between their 5 % quantiles, which a tenth of smeared points does not move.
+double inner_extent(std::vector<double> values) {
+  const double low = quantile(values, 0.05);
+  return quantile(std::move(values), 0.95) - low;
 }
 
 // A blade: a flat or curled plate continuing the handle (a shovel, a spatula). Seen along the handle, its
@@ -352,12 +358,11 @@ std::optional<Vec3> blade_across(const Points& cloud, const std::vector<std::uin
     depth.push_back(q.dot(deep));
     along.push_back(d.dot(y_axis));
   }
-  // Extents between the 5 % quantiles: a tenth of smeared points does not move them.
-  const auto extent = [](const std::vector<double>& x) { return quantile(x, 0.95) - quantile(x, 0.05); };
+  // The middle of the values between their 5 % quantiles.
   const auto middle = [](const std::vector<double>& x) { return 0.5 * (quantile(x, 0.95) + quantile(x, 0.05)); };
-  const double width = extent(across);
+  const double width = inner_extent(across);
   if (std::abs(middle(across)) > config.blade_centring * width || std::abs(middle(depth)) > kBladeDepthOffset * width ||
-      extent(along) < config.blade_min_aspect * width)
+      inner_extent(std::move(along)) < config.blade_min_aspect * width)
     return std::nullopt;
   return Vec3(wide.x() * u + wide.y() * v);
 }
@@ -403,13 +408,14 @@ std::pair<double, double> golden_minimum(F&& f, double lo, double hi, int iterat
 Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
                      const Vec3& x_axis, double q) {
   std::vector<double> forward, backward;
+  forward.reserve(cloud.size()), backward.reserve(cloud.size());
   for (const auto& p : cloud) {
     if ((p - centre).dot(y_axis) >= 0) continue;
     const double x = (p - handle_point).dot(x_axis);
     forward.push_back(x);
     backward.push_back(-x);
   }
-  return {quantile(forward, q), quantile(backward, q)};
+  return {quantile(std::move(forward), q), quantile(std::move(backward), q)};
 }
 
 std::string to_string(HeadKind kind) {
@@ -780,8 +786,8 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
       along.push_back((cloud[i] - centre).dot(y_axis));
       across.push_back((cloud[i] - centre).dot(frame.axes.col(2)));
     }
-    frame.diagnostics.head_length = quantile(along, 0.95) - quantile(along, 0.05);
-    frame.diagnostics.head_width = quantile(across, 0.95) - quantile(across, 0.05);
+    frame.diagnostics.head_length = inner_extent(std::move(along));
+    frame.diagnostics.head_width = inner_extent(std::move(across));
   }
   if (frame.stick) {
     frame.head_kind = HeadKind::none;
