@@ -26,6 +26,7 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
     : points_(points),
       tolerance_(tolerance),
       normal_neighbors_(normal_neighbors),
+      neighbours_(normal_neighbors),
       normals_(normal_neighbors > 0 ? points.size() : 0),
       normal_known_(normals_.size(), false) {
   if (points.empty()) return;
@@ -147,22 +148,29 @@ KdTree::Neighbor MirrorTarget::nearest(const Vec3& query) const {
 
 const Vec3& MirrorTarget::normal(std::uint32_t index) const {
   if (!normal_known_[index]) {
-    normals_[index] = normal_of(points_, neighbours(points_[index]));
+    find_neighbours(points_[index], neighbours_);
+    normals_[index] = normal_of(points_, neighbours_.kept());
     normal_known_[index] = true;
   }
   return normals_[index];
 }
 
 std::vector<KdTree::Neighbor> MirrorTarget::neighbours(const Vec3& point) const {
+  KNearest nearest(normal_neighbors_);
+  find_neighbours(point, nearest);
+  return nearest.kept();
+}
+
+void MirrorTarget::find_neighbours(const Vec3& point, KNearest& nearest) const {
   // Every point within a cell's width of the query (less the margin, twice: once for the query's own cell)
   // lies in the cells a scan visits: when normal_neighbors of them are that near, they are the nearest,
   // and the grid finds them for a fraction of the kd-tree's search. Otherwise the tree does.
-  KNearest nearest(normal_neighbors_);
+  nearest.clear();
   double bound2 = std::pow(cell_ * (1.0 - 2.0 * kCellMargin), 2);
   scan(point, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
-  if (nearest.full()) return nearest.kept();
+  if (nearest.full()) return;
   if (!tree_) tree_.emplace(points_);
-  return tree_->knn(point, normal_neighbors_);
+  tree_->knn(point, nearest);
 }
 
 SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, double match_weight,

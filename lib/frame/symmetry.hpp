@@ -35,12 +35,15 @@ class MirrorTarget {
   // sqrt(bound2) of it (which visit may lower); bound2 at most cell_ squared.
   template <typename Visit>
   void scan(const Vec3& query, double& bound2, Visit&& visit) const;
+  // neighbours(), into `nearest` (its k normal_neighbors).
+  void find_neighbours(const Vec3& point, KNearest& nearest) const;
 
   const Points& points_;
   double tolerance_;
   mutable std::optional<KdTree> tree_;  // for the normals' neighbours beyond a cell, built when first needed
   int normal_neighbors_;
-  mutable Points normals_;  // per point, valid where normal_known_
+  mutable KNearest neighbours_;  // a normal's, kept to be refilled: the normals allocate nothing
+  mutable Points normals_;       // per point, valid where normal_known_
   mutable std::vector<bool> normal_known_;
   // Cells of at least the tolerance's size across x and y, cut into thinner slices along z, over the
   // points' box: a point within tolerance of an image lies in the image's row of slices or one of the 8
