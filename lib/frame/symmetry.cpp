@@ -186,24 +186,39 @@ SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, 
 }
 
 double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) const {
+  return score(normal, point_on_plane, nullptr);
+}
+
+double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane, std::vector<Image>* record,
+                             const Recorded* known) const {
   double sum = 0.0;
   std::size_t evidence = 0;
-  for (std::uint32_t index : samples_) {
-    const Vec3& p = target_.points()[index];
-    const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
-    const auto nearest = target_.nearest(mirrored);
-    if (nearest.index != KdTree::npos) {
-      double distance = std::sqrt(nearest.distance2);
-      if (target_.normal_neighbors() > 0)
-        distance = std::abs(target_.normal(nearest.index).dot(mirrored - target_.points()[nearest.index]));
-      sum += match_weight_ * distance / target_.tolerance();
-      ++evidence;
-    } else if (free_space_ == nullptr || free_space_->seen(mirrored)) {
-      sum += 1.0;
-      ++evidence;
-    }
+  std::size_t j = 0;  // into known
+  for (const std::uint32_t index : samples_) {
+    if (known)
+      while (j < known->samples.size() && known->samples[j] < index) ++j;
+    const Image image = known && j < known->samples.size() && known->samples[j] == index
+                            ? known->images[j]
+                            : this->image(index, normal, point_on_plane);
+    if (record) record->push_back(image);
+    sum += image.cost;  // 0 for an image that is no evidence, which leaves the sum as it is
+    evidence += image.evidence;
   }
   return evidence == 0 ? 1.0 : sum / static_cast<double>(evidence);
+}
+
+SymmetryScorer::Image SymmetryScorer::image(std::uint32_t index, const Vec3& normal, const Vec3& point_on_plane) const {
+  const Vec3& p = target_.points()[index];
+  const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
+  const auto nearest = target_.nearest(mirrored);
+  if (nearest.index != KdTree::npos) {
+    double distance = std::sqrt(nearest.distance2);
+    if (target_.normal_neighbors() > 0)
+      distance = std::abs(target_.normal(nearest.index).dot(mirrored - target_.points()[nearest.index]));
+    return {match_weight_ * distance / target_.tolerance(), true};
+  }
+  if (free_space_ == nullptr || free_space_->seen(mirrored)) return {1.0, true};
+  return {};
 }
 
 }  // namespace toolinc

@@ -81,7 +81,27 @@ class SymmetryScorer {
   // mirror, 1 when every image contradicts or none is evidence. Not thread-safe (the target caches normals).
   double score(const Vec3& normal, const Vec3& point_on_plane) const;
 
+  // A sample's mirror image's part of a score: what it adds to the sum, and whether it is evidence.
+  struct Image {
+    double cost = 0.0;
+    bool evidence = false;
+  };
+  // Images a scorer recorded of a plane: its samples (ascending, as every scorer's are) and their images. Only
+  // another scorer over the same target, with the same match weight and free space, may take them.
+  struct Recorded {
+    const std::vector<std::uint32_t>& samples;
+    const std::vector<Image>& images;
+  };
+  // The score, each sample's image recorded into `record` (one per sample, in order) when given, and taken
+  // from `known`, the same plane's images by another scorer, where it holds the sample: a sweep scores its
+  // planes with a subset of the samples first, and rescores its best with them all.
+  double score(const Vec3& normal, const Vec3& point_on_plane, std::vector<Image>* record,
+               const Recorded* known = nullptr) const;
+  const std::vector<std::uint32_t>& samples() const { return samples_; }
+
  private:
+  Image image(std::uint32_t index, const Vec3& normal, const Vec3& point_on_plane) const;
+
   const MirrorTarget& target_;
   std::vector<std::uint32_t> samples_;
   double match_weight_;

@@ -526,10 +526,11 @@ struct AboutHandle {
   Vec3 normal_at(double angle) const { return std::cos(angle) * u + std::sin(angle) * v; }
   // The mirror score of the plane through the handle's axis at angle; each angle is scored once, since
   // the planes the search asks for and the chosen planes were often scored by a refinement already.
-  double score_at(double angle) const {
+  // images: those of the plane a coarser scorer recorded, taken where it shares the samples.
+  double score_at(double angle, const SymmetryScorer::Recorded* images = nullptr) const {
     const auto known = std::find_if(scored.begin(), scored.end(), [&](const auto& s) { return s.first == angle; });
     if (known != scored.end()) return known->second;
-    scored.emplace_back(angle, scorer.score(normal_at(angle), centre));
+    scored.emplace_back(angle, scorer.score(normal_at(angle), centre, nullptr, images));
     return scored.back().second;
   }
 
@@ -585,12 +586,17 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   std::vector<double> angles;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step) angles.push_back(angle);
   double coarse_best = std::numeric_limits<double>::infinity();
-  for (const double angle : angles) {
-    sweep.push_back({angle / kDeg, normal_at(angle), coarse.score(normal_at(angle), centre)});
+  std::vector<std::vector<SymmetryScorer::Image>> coarse_images(angles.size());  // reused by the rescoring
+  for (std::size_t k = 0; k < angles.size(); ++k) {
+    sweep.push_back(
+        {angles[k] / kDeg, normal_at(angles[k]), coarse.score(normal_at(angles[k]), centre, &coarse_images[k])});
     coarse_best = std::min(coarse_best, sweep.back().score);
   }
   for (std::size_t k = 0; k < angles.size(); ++k)
-    if (sweep[k].score <= coarse_best + kSweepRescoreMargin) sweep[k].score = score_at(angles[k]);
+    if (sweep[k].score <= coarse_best + kSweepRescoreMargin) {
+      const SymmetryScorer::Recorded images{coarse.samples(), coarse_images[k]};
+      sweep[k].score = score_at(angles[k], &images);
+    }
   // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
   // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
   // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across
