@@ -96,7 +96,7 @@ std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
   if (k <= 0) return {};
   KNearest nearest(k);
   knn(query, nearest);
-  return nearest.kept();
+  return nearest.take();
 }
 
 void KdTree::knn(const Vec3& query, KNearest& nearest) const {

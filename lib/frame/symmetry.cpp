@@ -158,7 +158,7 @@ const Vec3& MirrorTarget::normal(std::uint32_t index) const {
 std::vector<KdTree::Neighbor> MirrorTarget::neighbours(const Vec3& point) const {
   KNearest nearest(normal_neighbors_);
   find_neighbours(point, nearest);
-  return nearest.kept();
+  return nearest.take();
 }
 
 void MirrorTarget::find_neighbours(const Vec3& point, KNearest& nearest) const {

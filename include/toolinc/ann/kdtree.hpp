@@ -90,6 +90,8 @@ class KNearest {
   bool full() const { return static_cast<int>(kept_.size()) == k_; }
   void clear() { kept_.clear(); }
   const std::vector<KdTree::Neighbor>& kept() const { return kept_; }
+  // The kept neighbours moved out, which leaves none kept: a search's result without a copy.
+  std::vector<KdTree::Neighbor> take() { return std::move(kept_); }
 
  private:
   int k_;
