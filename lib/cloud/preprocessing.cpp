@@ -218,6 +218,7 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   HeldPiece held;
   const double hand_r2 = hand_radius * hand_radius;
   std::vector<std::uint32_t> beyond;
+  beyond.reserve(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i)
     if (points[i].squaredNorm() > hand_r2) beyond.push_back(i);
   if (gap <= 0.0 || beyond.empty()) {
@@ -227,18 +228,27 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   // The pieces are joined on a grid an eighth of the gap fine, between the means of its cells: a dense
   // reconstruction has thousands of points within a gap of each, its cells a few hundred.
   const double cell_size = gap / 8.0;
-  std::unordered_map<CellKey, std::uint32_t, CellHash> cell_of_key;
-  cell_of_key.reserve(beyond.size());
+  // The cells numbered as first met, found by key in a flat table of numbers at least twice the points'
+  // count, probed linearly: unlike a hash map's node per cell, it allocates once.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::size_t slots = 1;
+  while (slots < 2 * beyond.size()) slots *= 2;
+  std::vector<std::uint32_t> number_at(slots, kNone);
+  std::vector<CellKey> keys;
   std::vector<std::uint32_t> cell(points.size());
   Points sums;
   std::vector<int> counts;
   for (const auto i : beyond) {
-    const auto [it, added] = cell_of_key.try_emplace(cell_of(points[i], cell_size, "piece gap", gap),
-                                                     static_cast<std::uint32_t>(sums.size()));
-    if (added) sums.push_back(Vec3::Zero()), counts.push_back(0);
-    cell[i] = it->second;
-    sums[it->second] += points[i];
-    ++counts[it->second];
+    const CellKey key = cell_of(points[i], cell_size, "piece gap", gap);
+    std::size_t slot = CellHash{}(key) & (slots - 1);
+    while (number_at[slot] != kNone && keys[number_at[slot]] != key) slot = (slot + 1) & (slots - 1);
+    if (number_at[slot] == kNone) {
+      number_at[slot] = static_cast<std::uint32_t>(keys.size());
+      keys.push_back(key), sums.push_back(Vec3::Zero()), counts.push_back(0);
+    }
+    cell[i] = number_at[slot];
+    sums[cell[i]] += points[i];
+    ++counts[cell[i]];
   }
   Points means(sums.size());
   for (std::size_t c = 0; c < sums.size(); ++c) means[c] = sums[c] / counts[c];
@@ -252,6 +262,7 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
     ++sizes[p];
   }
   const double reach = *std::min_element(nearest.begin(), nearest.end()) + gap;
+  held.indices.reserve(beyond.size());
   for (const auto i : beyond)
     if (nearest[piece[cell[i]]] <= reach) held.indices.push_back(i);
   for (std::uint32_t p = 0; p < pieces; ++p)
