@@ -275,7 +275,7 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   std::vector<int> counts;
   for (const auto i : beyond) {
     cell[i] = numbers.number(cell_of(points[i], cell_size, "piece gap", gap));
-    if (cell[i] == sums.size()) sums.push_back(Vec3::Zero()), counts.push_back(0);
+    if (cell[i] == sums.size()) sums.push_back(Vec3::Zero()), counts.push_back(0);  // numbered now
     sums[cell[i]] += points[i];
     ++counts[cell[i]];
   }
