@@ -60,10 +60,14 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
     for (int dy = 0; dy < 3; ++dy)
       for (int dz = 0; dz < 3; ++dz)
         around.push_back((static_cast<std::size_t>(dx) * blocks_.y() + dy) * blocks_.z() + dz);
-  for (const auto& p : points) {
+  // The points slice after slice: those of a block mostly follow one another, and it is marked around once.
+  std::size_t last = std::numeric_limits<std::size_t>::max();
+  for (const auto& p : cell_points_) {
     const Eigen::Array3i c = slice_of(p);
     const std::size_t block =
         (static_cast<std::size_t>(c.x()) * blocks_.y() + c.y()) * blocks_.z() + c.z() / kSlicesPerCell;
+    if (block == last) continue;
+    last = block;
     for (const auto offset : around) points_near_[block + offset] = 1;
   }
 }
