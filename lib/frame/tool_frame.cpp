@@ -545,6 +545,8 @@ struct AboutHandle {
   double step;  // the sweep's, rad
   std::vector<SymmetryCandidate> sweep, tied_planes;
   std::optional<Vec3> blade;                              // across the head, when it is a blade
+  std::optional<HeadLine> bar_line;                       // the head's line seen along the handle, when bar-like
+  Vec3 head_thinnest = Vec3::Zero();                      // the head's thinnest direction, when it has a head
   double rules_angle = 0.0;                               // the rules' plane, before a bar along it moves it
   double across_handle_score;                             // of the plane across the handle, for the record only
   mutable std::vector<std::pair<double, double>> scored;  // angle, score
@@ -603,6 +605,9 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
   // effector reaches farthest, since the effector axis is the head's forward extent.
   blade = blade_across(cloud, head, centre, y_axis, u, v, config);
+  bar_line = head_line(cloud, head, centre, u, v, config);
+  if (static_cast<int>(head.size()) >= config.min_head_points)
+    head_thinnest = head_spread(cloud, head).eigenvectors().col(0);
   // A front that is a corner, not a face, loses to one that is.
   std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
   for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
@@ -696,7 +701,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
                 "of {} planes mirroring as well, the one whose effector front is a face, not a corner, "
                 "and reaches farthest",
                 frame.tied_planes.size());
-  if (const auto line = head_line(cloud, head, centre, u, v, config)) {
+  if (const auto& line = about.bar_line) {
     const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
     std::optional<Cylinder> bar;
     if (std::abs(to_line) <= 1.5 * step)
@@ -759,8 +764,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   // A blade or a scoop (a head thinnest along the effector axis, reaching less far along it than it is
   // wide) works with its concave side: when its edges curl to one side, that side is the effector's,
   // whichever reaches farther (a scoop's belly may bulge behind the handle's axis).
-  const bool thin_along_x =
-      has_head && std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg);
+  const bool thin_along_x = has_head && std::abs(about.head_thinnest.dot(x_axis)) >= std::cos(30 * kDeg);
   bool curled = false;
   if (thin_along_x) {
     const Curl curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
