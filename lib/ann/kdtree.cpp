@@ -8,12 +8,13 @@ namespace toolinc {
 KdTree::KdTree(const Points& points, int leaf_size) : points_(points) {
   // Built on the points themselves, beside their indices: the partitions read them in memory order.
   std::vector<Entry> entries(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) entries[i] = {points[i], static_cast<std::uint32_t>(i)};
+  for (std::size_t i = 0; i < points.size(); ++i)
+    entries[i] = {{points[i].x(), points[i].y(), points[i].z()}, static_cast<std::uint32_t>(i)};
   nodes_.reserve(2 * points.size() / std::max(1, leaf_size) + 1);
   if (!points.empty()) build(entries, 0, static_cast<std::uint32_t>(points.size()), std::max(1, leaf_size));
   order_.reserve(points.size());
   ordered_.reserve(points.size());
-  for (const auto& e : entries) order_.push_back(e.index), ordered_.push_back(e.point);
+  for (const auto& e : entries) order_.push_back(e.index), ordered_.emplace_back(e.point[0], e.point[1], e.point[2]);
 }
 
 // The widest side of the node's points' own box (a sample's) is split at the median, which keeps the tree
@@ -24,10 +25,10 @@ std::int32_t KdTree::build(std::vector<Entry>& entries, std::uint32_t begin, std
   nodes_.push_back({begin, end, -1, -1, -1, 0.0});
   if (end - begin <= static_cast<std::uint32_t>(leaf_size)) return id;
 
-  Vec3 lo = entries[begin].point, hi = lo;
+  const auto point = [&](std::uint32_t i) { return Eigen::Map<const Vec3>(entries[i].point.data()); };
+  Vec3 lo = point(begin), hi = lo;
   const std::uint32_t stride = std::max<std::uint32_t>(1, (end - begin) / 64);
-  for (std::uint32_t i = begin; i < end; i += stride)
-    lo = lo.cwiseMin(entries[i].point), hi = hi.cwiseMax(entries[i].point);
+  for (std::uint32_t i = begin; i < end; i += stride) lo = lo.cwiseMin(point(i)), hi = hi.cwiseMax(point(i));
   int dim = 0;
   (hi - lo).maxCoeff(&dim);
   const std::uint32_t mid = begin + (end - begin) / 2;
@@ -95,7 +96,7 @@ std::vector<KdTree::Neighbor> KdTree::knn(const Vec3& query, int k) const {
   if (k <= 0) return {};
   KNearest nearest(k);
   knn(query, nearest);
-  return nearest.kept();
+  return nearest.take();
 }
 
 void KdTree::knn(const Vec3& query, KNearest& nearest) const {

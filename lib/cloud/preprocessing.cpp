@@ -11,7 +11,6 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
-#include <unordered_map>
 #include <utility>
 
 #include "toolinc/ann/kdtree.hpp"
@@ -111,6 +110,41 @@ struct CellHash {
   }
 };
 
+// Cells numbered as first met, found by key in a flat table of numbers probed linearly, with at least twice
+// as many slots as cells: unlike a hash map's node per cell, it allocates once.
+class CellNumbers {
+ public:
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+  explicit CellNumbers(std::size_t most_cells) {
+    while (slots_ < 2 * most_cells) slots_ *= 2;
+    number_at_.assign(slots_, kNone);
+  }
+  // The cell's number, numbering it if it is new.
+  std::uint32_t number(const CellKey& key) {
+    const std::size_t slot = slot_of(key);
+    if (number_at_[slot] == kNone) {
+      number_at_[slot] = static_cast<std::uint32_t>(keys_.size());
+      keys_.push_back(key);
+    }
+    return number_at_[slot];
+  }
+  // The cell's number, kNone if it has none.
+  std::uint32_t find(const CellKey& key) const { return number_at_[slot_of(key)]; }
+  std::size_t size() const { return keys_.size(); }
+
+ private:
+  std::size_t slot_of(const CellKey& key) const {
+    std::size_t slot = CellHash{}(key) & (slots_ - 1);
+    while (number_at_[slot] != kNone && keys_[number_at_[slot]] != key) slot = (slot + 1) & (slots_ - 1);
+    return slot;
+  }
+
+  std::size_t slots_ = 1;
+  std::vector<std::uint32_t> number_at_;  // per slot
+  std::vector<CellKey> keys_;             // per cell
+};
+
 // The pieces of points joined through points at most gap apart, numbered from 0 (count of them in pieces).
 // Points sharing a block of gap / 2 a side lie within 0.87 gap of each other, so each block is one piece
 // and only pairs of points in different blocks within reach need a check: the pieces of checking every
@@ -191,11 +225,18 @@ std::vector<std::uint32_t> non_isolated(const Points& points, double radius, std
   // rounding aside. Its own cell, searched first, mostly holds enough of them.
   const double cell_size = radius * (1.0 + 1e-9);
   std::vector<CellKey> key(points.size());
-  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells;
+  CellNumbers numbers(points.size());
+  std::vector<std::uint32_t> cell(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     key[i] = cell_of(points[i], cell_size, "radius", radius);
-    cells[key[i]].push_back(i);
+    cell[i] = numbers.number(key[i]);
   }
+  // Each cell's points, by ascending index, side by side: a counting sort by cell.
+  std::vector<std::uint32_t> first(numbers.size() + 1, 0), members(points.size());
+  for (const auto c : cell) ++first[c + 1];
+  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
+  std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+  for (std::uint32_t i = 0; i < points.size(); ++i) members[next[cell[i]]++] = i;
   const double r2 = radius * radius;
   const std::size_t enough = min_neighbors + 1;  // the point itself is counted, as a radius search counts it
   std::vector<std::uint32_t> kept;
@@ -204,10 +245,10 @@ std::vector<std::uint32_t> non_isolated(const Points& points, double radius, std
     std::size_t count = 0;
     for (int k = 0; k < 27 && count < enough; ++k) {
       const int dx = (k + 1) % 3 - 1, dy = (k / 3 + 1) % 3 - 1, dz = (k / 9 + 1) % 3 - 1;  // own cell first
-      const auto cell = cells.find({key[i][0] + dx, key[i][1] + dy, key[i][2] + dz});
-      if (cell == cells.end()) continue;
-      for (const auto j : cell->second)
-        if ((points[j] - points[i]).squaredNorm() <= r2 && ++count >= enough) break;
+      const std::uint32_t c = numbers.find({key[i][0] + dx, key[i][1] + dy, key[i][2] + dz});
+      if (c == CellNumbers::kNone) continue;
+      for (std::uint32_t m = first[c]; m < first[c + 1]; ++m)
+        if ((points[members[m]] - points[i]).squaredNorm() <= r2 && ++count >= enough) break;
     }
     if (count >= enough) kept.push_back(i);
   }
@@ -218,6 +259,7 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   HeldPiece held;
   const double hand_r2 = hand_radius * hand_radius;
   std::vector<std::uint32_t> beyond;
+  beyond.reserve(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i)
     if (points[i].squaredNorm() > hand_r2) beyond.push_back(i);
   if (gap <= 0.0 || beyond.empty()) {
@@ -227,18 +269,15 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
   // The pieces are joined on a grid an eighth of the gap fine, between the means of its cells: a dense
   // reconstruction has thousands of points within a gap of each, its cells a few hundred.
   const double cell_size = gap / 8.0;
-  std::unordered_map<CellKey, std::uint32_t, CellHash> cell_of_key;
-  cell_of_key.reserve(beyond.size());
+  CellNumbers numbers(beyond.size());
   std::vector<std::uint32_t> cell(points.size());
   Points sums;
   std::vector<int> counts;
   for (const auto i : beyond) {
-    const auto [it, added] = cell_of_key.try_emplace(cell_of(points[i], cell_size, "piece gap", gap),
-                                                     static_cast<std::uint32_t>(sums.size()));
-    if (added) sums.push_back(Vec3::Zero()), counts.push_back(0);
-    cell[i] = it->second;
-    sums[it->second] += points[i];
-    ++counts[it->second];
+    cell[i] = numbers.number(cell_of(points[i], cell_size, "piece gap", gap));
+    if (cell[i] == sums.size()) sums.push_back(Vec3::Zero()), counts.push_back(0);  // numbered now
+    sums[cell[i]] += points[i];
+    ++counts[cell[i]];
   }
   Points means(sums.size());
   for (std::size_t c = 0; c < sums.size(); ++c) means[c] = sums[c] / counts[c];
@@ -252,6 +291,7 @@ HeldPiece held_piece(const Points& points, double hand_radius, double gap) {
     ++sizes[p];
   }
   const double reach = *std::min_element(nearest.begin(), nearest.end()) + gap;
+  held.indices.reserve(beyond.size());
   for (const auto i : beyond)
     if (nearest[piece[cell[i]]] <= reach) held.indices.push_back(i);
   for (std::uint32_t p = 0; p < pieces; ++p)

@@ -72,7 +72,10 @@ Cylinder fit_cylinder(const Points& points, Cylinder initial, double huber_scale
       const Eigen::Vector4d a(-along * unit.dot(u), -along * unit.dot(v), -unit.dot(u), -unit.dot(v));
       const double w = huber_weight(r, huber_scale);
       const Eigen::Vector4d wa = w * a;
-      H_axis.noalias() += wa * a.transpose();
+      H_axis.col(0) += wa * a[0];  // the lower triangle, the only part the LDLT solve reads
+      H_axis.col(1).tail<3>() += wa.tail<3>() * a[1];
+      H_axis.col(2).tail<2>() += wa.tail<2>() * a[2];
+      H_axis(3, 3) += wa[3] * a[3];
       H_coupling.col(s) -= wa;
       H_section[s] += w;
       g_axis += wa * r;

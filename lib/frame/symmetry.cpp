@@ -26,6 +26,7 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
     : points_(points),
       tolerance_(tolerance),
       normal_neighbors_(normal_neighbors),
+      neighbours_(normal_neighbors),
       normals_(normal_neighbors > 0 ? points.size() : 0),
       normal_known_(normals_.size(), false) {
   if (points.empty()) return;
@@ -59,10 +60,14 @@ MirrorTarget::MirrorTarget(const Points& points, double tolerance, int normal_ne
     for (int dy = 0; dy < 3; ++dy)
       for (int dz = 0; dz < 3; ++dz)
         around.push_back((static_cast<std::size_t>(dx) * blocks_.y() + dy) * blocks_.z() + dz);
-  for (const auto& p : points) {
+  // The points slice after slice: those of a block mostly follow one another, and it is marked around once.
+  std::size_t last = std::numeric_limits<std::size_t>::max();
+  for (const auto& p : cell_points_) {
     const Eigen::Array3i c = slice_of(p);
     const std::size_t block =
         (static_cast<std::size_t>(c.x()) * blocks_.y() + c.y()) * blocks_.z() + c.z() / kSlicesPerCell;
+    if (block == last) continue;
+    last = block;
     for (const auto offset : around) points_near_[block + offset] = 1;
   }
 }
@@ -147,22 +152,29 @@ KdTree::Neighbor MirrorTarget::nearest(const Vec3& query) const {
 
 const Vec3& MirrorTarget::normal(std::uint32_t index) const {
   if (!normal_known_[index]) {
-    normals_[index] = normal_of(points_, neighbours(points_[index]));
+    find_neighbours(points_[index], neighbours_);
+    normals_[index] = normal_of(points_, neighbours_.kept());
     normal_known_[index] = true;
   }
   return normals_[index];
 }
 
 std::vector<KdTree::Neighbor> MirrorTarget::neighbours(const Vec3& point) const {
+  KNearest nearest(normal_neighbors_);
+  find_neighbours(point, nearest);
+  return nearest.take();
+}
+
+void MirrorTarget::find_neighbours(const Vec3& point, KNearest& nearest) const {
   // Every point within a cell's width of the query (less the margin, twice: once for the query's own cell)
   // lies in the cells a scan visits: when normal_neighbors of them are that near, they are the nearest,
   // and the grid finds them for a fraction of the kd-tree's search. Otherwise the tree does.
-  KNearest nearest(normal_neighbors_);
+  nearest.clear();
   double bound2 = std::pow(cell_ * (1.0 - 2.0 * kCellMargin), 2);
   scan(point, bound2, [&](std::uint32_t index, double d2) { nearest.offer(index, d2, bound2); });
-  if (nearest.full()) return nearest.kept();
+  if (nearest.full()) return;
   if (!tree_) tree_.emplace(points_);
-  return tree_->knn(point, normal_neighbors_);
+  tree_->knn(point, nearest);
 }
 
 SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, double match_weight,
@@ -178,24 +190,39 @@ SymmetryScorer::SymmetryScorer(const MirrorTarget& target, std::size_t samples, 
 }
 
 double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane) const {
+  return score(normal, point_on_plane, nullptr);
+}
+
+double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane, std::vector<Image>* record,
+                             const Recorded* known) const {
   double sum = 0.0;
   std::size_t evidence = 0;
-  for (std::uint32_t index : samples_) {
-    const Vec3& p = target_.points()[index];
-    const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
-    const auto nearest = target_.nearest(mirrored);
-    if (nearest.index != KdTree::npos) {
-      double distance = std::sqrt(nearest.distance2);
-      if (target_.normal_neighbors() > 0)
-        distance = std::abs(target_.normal(nearest.index).dot(mirrored - target_.points()[nearest.index]));
-      sum += match_weight_ * distance / target_.tolerance();
-      ++evidence;
-    } else if (free_space_ == nullptr || free_space_->seen(mirrored)) {
-      sum += 1.0;
-      ++evidence;
-    }
+  std::size_t j = 0;  // into known
+  for (const std::uint32_t index : samples_) {
+    if (known)
+      while (j < known->samples.size() && known->samples[j] < index) ++j;
+    const Image image = known && j < known->samples.size() && known->samples[j] == index
+                            ? known->images[j]
+                            : this->image(index, normal, point_on_plane);
+    if (record) record->push_back(image);
+    sum += image.cost;  // 0 for an image that is no evidence, which leaves the sum as it is
+    evidence += image.evidence;
   }
   return evidence == 0 ? 1.0 : sum / static_cast<double>(evidence);
+}
+
+SymmetryScorer::Image SymmetryScorer::image(std::uint32_t index, const Vec3& normal, const Vec3& point_on_plane) const {
+  const Vec3& p = target_.points()[index];
+  const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
+  const auto nearest = target_.nearest(mirrored);
+  if (nearest.index != KdTree::npos) {
+    double distance = std::sqrt(nearest.distance2);
+    if (target_.normal_neighbors() > 0)
+      distance = std::abs(target_.normal(nearest.index).dot(mirrored - target_.points()[nearest.index]));
+    return {match_weight_ * distance / target_.tolerance(), true};
+  }
+  if (free_space_ == nullptr || free_space_->seen(mirrored)) return {1.0, true};
+  return {};
 }
 
 }  // namespace toolinc

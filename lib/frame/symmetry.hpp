@@ -35,12 +35,15 @@ class MirrorTarget {
   // sqrt(bound2) of it (which visit may lower); bound2 at most cell_ squared.
   template <typename Visit>
   void scan(const Vec3& query, double& bound2, Visit&& visit) const;
+  // neighbours(), into `nearest` (its k normal_neighbors).
+  void find_neighbours(const Vec3& point, KNearest& nearest) const;
 
   const Points& points_;
   double tolerance_;
   mutable std::optional<KdTree> tree_;  // for the normals' neighbours beyond a cell, built when first needed
   int normal_neighbors_;
-  mutable Points normals_;  // per point, valid where normal_known_
+  mutable KNearest neighbours_;  // a normal's, kept to be refilled: the normals allocate nothing
+  mutable Points normals_;       // per point, valid where normal_known_
   mutable std::vector<bool> normal_known_;
   // Cells of at least the tolerance's size across x and y, cut into thinner slices along z, over the
   // points' box: a point within tolerance of an image lies in the image's row of slices or one of the 8
@@ -78,7 +81,27 @@ class SymmetryScorer {
   // mirror, 1 when every image contradicts or none is evidence. Not thread-safe (the target caches normals).
   double score(const Vec3& normal, const Vec3& point_on_plane) const;
 
+  // A sample's mirror image's part of a score: what it adds to the sum, and whether it is evidence.
+  struct Image {
+    double cost = 0.0;
+    bool evidence = false;
+  };
+  // Images a scorer recorded of a plane: its samples (ascending, as every scorer's are) and their images. Only
+  // another scorer over the same target, with the same match weight and free space, may take them.
+  struct Recorded {
+    const std::vector<std::uint32_t>& samples;
+    const std::vector<Image>& images;
+  };
+  // The score, each sample's image recorded into `record` (one per sample, in order) when given, and taken
+  // from `known`, the same plane's images by another scorer, where it holds the sample: a sweep scores its
+  // planes with a subset of the samples first, and rescores its best with them all.
+  double score(const Vec3& normal, const Vec3& point_on_plane, std::vector<Image>* record,
+               const Recorded* known = nullptr) const;
+  const std::vector<std::uint32_t>& samples() const { return samples_; }
+
  private:
+  Image image(std::uint32_t index, const Vec3& normal, const Vec3& point_on_plane) const;
+
   const MirrorTarget& target_;
   std::vector<std::uint32_t> samples_;
   double match_weight_;

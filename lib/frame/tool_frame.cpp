@@ -194,7 +194,7 @@ double effector_extent(const Points& cloud, const Vec3& side_point, const Cylind
   std::vector<double> radial;
   for (const auto& p : cloud)
     if ((p - side_point).dot(line.axis) < 0) radial.push_back(radial_distance(line, p));
-  return radial.empty() ? 0.0 : quantile(radial, q);
+  return radial.empty() ? 0.0 : quantile(std::move(radial), q);
 }
 
 // A stick's handle: its principal line, signed towards the hand, the radius its points' median distance.
@@ -234,7 +234,7 @@ Curl head_curl(const Points& cloud, const std::vector<std::uint32_t>& head, cons
     width.push_back(std::abs(z));
   }
   const Eigen::Vector3d coefficients = normal.ldlt().solve(right);
-  const double half_width = quantile(width, 0.9);
+  const double half_width = quantile(std::move(width), 0.9);
   return {coefficients(2) * half_width * half_width, half_width};
 }
 
@@ -304,7 +304,7 @@ std::optional<Cylinder> fit_bar(const Points& cloud, const std::vector<std::uint
                                 const ToolFrameConfig& config) {
   std::vector<double> along;
   for (auto i : head) along.push_back((cloud[i] - handle_point).dot(y_axis));
-  const double band = kBarBand * handle_radius, far_end = quantile(along, 0.01);
+  const double band = kBarBand * handle_radius, far_end = quantile(std::move(along), 0.01);
   Points bar;
   Vec3 mean = Vec3::Zero();
   for (auto i : head) {
@@ -326,6 +326,12 @@ Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> head_spread(const Points& cloud,
                                                            const std::vector<std::uint32_t>& head) {
   const auto spread = scatter_of<3>(head.size(), [&](std::size_t j) { return cloud[head[j]]; });
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread.scatter);
+}
+
+// The extent of the values between their 5 % quantiles, which a tenth of smeared points does not move.
+double inner_extent(std::vector<double> values) {
+  const double low = quantile(values, 0.05);
+  return quantile(std::move(values), 0.95) - low;
 }
 
 // A blade: a flat or curled plate continuing the handle (a shovel, a spatula). Seen along the handle, its
@@ -352,12 +358,11 @@ std::optional<Vec3> blade_across(const Points& cloud, const std::vector<std::uin
     depth.push_back(q.dot(deep));
     along.push_back(d.dot(y_axis));
   }
-  // Extents between the 5 % quantiles: a tenth of smeared points does not move them.
-  const auto extent = [](const std::vector<double>& x) { return quantile(x, 0.95) - quantile(x, 0.05); };
+  // The middle of the values between their 5 % quantiles.
   const auto middle = [](const std::vector<double>& x) { return 0.5 * (quantile(x, 0.95) + quantile(x, 0.05)); };
-  const double width = extent(across);
+  const double width = inner_extent(across);
   if (std::abs(middle(across)) > config.blade_centring * width || std::abs(middle(depth)) > kBladeDepthOffset * width ||
-      extent(along) < config.blade_min_aspect * width)
+      inner_extent(std::move(along)) < config.blade_min_aspect * width)
     return std::nullopt;
   return Vec3(wide.x() * u + wide.y() * v);
 }
@@ -403,13 +408,14 @@ std::pair<double, double> golden_minimum(F&& f, double lo, double hi, int iterat
 Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
                      const Vec3& x_axis, double q) {
   std::vector<double> forward, backward;
+  forward.reserve(cloud.size()), backward.reserve(cloud.size());
   for (const auto& p : cloud) {
     if ((p - centre).dot(y_axis) >= 0) continue;
     const double x = (p - handle_point).dot(x_axis);
     forward.push_back(x);
     backward.push_back(-x);
   }
-  return {quantile(forward, q), quantile(backward, q)};
+  return {quantile(std::move(forward), q), quantile(std::move(backward), q)};
 }
 
 std::string to_string(HeadKind kind) {
@@ -520,10 +526,11 @@ struct AboutHandle {
   Vec3 normal_at(double angle) const { return std::cos(angle) * u + std::sin(angle) * v; }
   // The mirror score of the plane through the handle's axis at angle; each angle is scored once, since
   // the planes the search asks for and the chosen planes were often scored by a refinement already.
-  double score_at(double angle) const {
+  // images: those of the plane a coarser scorer recorded, taken where it shares the samples.
+  double score_at(double angle, const SymmetryScorer::Recorded* images = nullptr) const {
     const auto known = std::find_if(scored.begin(), scored.end(), [&](const auto& s) { return s.first == angle; });
     if (known != scored.end()) return known->second;
-    scored.emplace_back(angle, scorer.score(normal_at(angle), centre));
+    scored.emplace_back(angle, scorer.score(normal_at(angle), centre, nullptr, images));
     return scored.back().second;
   }
 
@@ -538,6 +545,8 @@ struct AboutHandle {
   double step;  // the sweep's, rad
   std::vector<SymmetryCandidate> sweep, tied_planes;
   std::optional<Vec3> blade;                              // across the head, when it is a blade
+  std::optional<HeadLine> bar_line;                       // the head's line seen along the handle, when bar-like
+  Vec3 head_thinnest = Vec3::Zero();                      // the head's thinnest direction, when it has a head
   double rules_angle = 0.0;                               // the rules' plane, before a bar along it moves it
   double across_handle_score;                             // of the plane across the handle, for the record only
   mutable std::vector<std::pair<double, double>> scored;  // angle, score
@@ -579,18 +588,26 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   std::vector<double> angles;
   for (double angle = 0.0; angle < M_PI - 1e-9; angle += step) angles.push_back(angle);
   double coarse_best = std::numeric_limits<double>::infinity();
-  for (const double angle : angles) {
-    sweep.push_back({angle / kDeg, normal_at(angle), coarse.score(normal_at(angle), centre)});
+  std::vector<std::vector<SymmetryScorer::Image>> coarse_images(angles.size());  // reused by the rescoring
+  for (std::size_t k = 0; k < angles.size(); ++k) {
+    sweep.push_back(
+        {angles[k] / kDeg, normal_at(angles[k]), coarse.score(normal_at(angles[k]), centre, &coarse_images[k])});
     coarse_best = std::min(coarse_best, sweep.back().score);
   }
   for (std::size_t k = 0; k < angles.size(); ++k)
-    if (sweep[k].score <= coarse_best + kSweepRescoreMargin) sweep[k].score = score_at(angles[k]);
+    if (sweep[k].score <= coarse_best + kSweepRescoreMargin) {
+      const SymmetryScorer::Recorded images{coarse.samples(), coarse_images[k]};
+      sweep[k].score = score_at(angles[k], &images);
+    }
   // Tools like a T or a flat top have two mirror planes through the handle. The lowest angle of each
   // basin of the sweep that scores as well as the best (within the tie margin) is refined. A blade (a
   // plate along the handle: shovel, spatula) acts with its face, so its symmetry plane is the one across
   // it and the effector axis its normal. Otherwise the symmetry plane is the one across which the
   // effector reaches farthest, since the effector axis is the head's forward extent.
   blade = blade_across(cloud, head, centre, y_axis, u, v, config);
+  bar_line = head_line(cloud, head, centre, u, v, config);
+  if (static_cast<int>(head.size()) >= config.min_head_points)
+    head_thinnest = head_spread(cloud, head).eigenvectors().col(0);
   // A front that is a corner, not a face, loses to one that is.
   std::pair<bool, double> best_merit{false, -std::numeric_limits<double>::infinity()};
   for (const std::size_t i : basin_minima(sweep, config.symmetry_tie_margin)) {
@@ -684,7 +701,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
                 "of {} planes mirroring as well, the one whose effector front is a face, not a corner, "
                 "and reaches farthest",
                 frame.tied_planes.size());
-  if (const auto line = head_line(cloud, head, centre, u, v, config)) {
+  if (const auto& line = about.bar_line) {
     const double to_line = std::remainder(line->normal_angle - best_angle, M_PI);
     std::optional<Cylinder> bar;
     if (std::abs(to_line) <= 1.5 * step)
@@ -747,8 +764,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   // A blade or a scoop (a head thinnest along the effector axis, reaching less far along it than it is
   // wide) works with its concave side: when its edges curl to one side, that side is the effector's,
   // whichever reaches farther (a scoop's belly may bulge behind the handle's axis).
-  const bool thin_along_x =
-      has_head && std::abs(head_spread(cloud, head).eigenvectors().col(0).dot(x_axis)) >= std::cos(30 * kDeg);
+  const bool thin_along_x = has_head && std::abs(about.head_thinnest.dot(x_axis)) >= std::cos(30 * kDeg);
   bool curled = false;
   if (thin_along_x) {
     const Curl curl = head_curl(cloud, head, centre + offset * z_normal, x_axis, z_normal);
@@ -780,8 +796,8 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
       along.push_back((cloud[i] - centre).dot(y_axis));
       across.push_back((cloud[i] - centre).dot(frame.axes.col(2)));
     }
-    frame.diagnostics.head_length = quantile(along, 0.95) - quantile(along, 0.05);
-    frame.diagnostics.head_width = quantile(across, 0.95) - quantile(across, 0.05);
+    frame.diagnostics.head_length = inner_extent(std::move(along));
+    frame.diagnostics.head_width = inner_extent(std::move(across));
   }
   if (frame.stick) {
     frame.head_kind = HeadKind::none;
@@ -862,40 +878,50 @@ ToolFrame other_side(ToolFrame frame) {
   return frame;
 }
 
+// What the features measure about a handle alone, whatever the plane and side: the head's points (the
+// effector side's beyond head-radius-factor handle radii of its axis) and their summed distance from it,
+// and the share of the part the hand holds (held-share) that lies off the handle's line, beyond what the
+// hand closes on.
+struct HandleFeatures {
+  const std::vector<std::uint32_t>& head;
+  double head_out = 0.0;
+  double held_off_line = 0.0;
+};
+HandleFeatures handle_features(const AboutHandle& about, const Points& cloud, const Points& held,
+                               const ToolFrameConfig& c) {
+  HandleFeatures features{about.head};
+  for (const auto i : about.head) features.head_out += radial_distance(about.line, cloud[i]);
+  int off_line = 0;
+  for (const auto& p : held) off_line += radial_distance(about.line, p) > c.grasp_max_radius;
+  if (!held.empty()) features.held_off_line = static_cast<double>(off_line) / static_cast<double>(held.size());
+  return features;
+}
+
 // A hypothesis's features, each in units of the parameter that gives it its physical scale and each
-// comparable between hypotheses (measured the same way whatever the candidate handle came from). held:
-// the part the hand holds (held-share), the same points for every hypothesis.
-std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const Points& held,
+// comparable between hypotheses (measured the same way whatever the candidate handle came from).
+std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const HandleFeatures& handle,
                                                bool rules_plane, const ToolFrameConfig& c) {
-  const Vec3 x = f.effector_axis(), y = f.handle_axis(), z = f.symmetry_axis();
-  const Cylinder handle{f.handle_point, y, 0.0, 0.0};
+  const Vec3 x = f.effector_axis(), z = f.symmetry_axis();
   // The head's mean point along +X, against its points' mean distance from the handle's axis: the side its
   // material lies on (-1 to 1), which smear moves little.
-  double head_x = 0.0, head_out = 0.0;
-  std::vector<std::uint32_t> head;
-  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
-    const double out = radial_distance(handle, cloud[i]);
-    if ((cloud[i] - f.diagnostics.centroid).dot(y) < 0 && out >= c.head_radius_factor * f.handle_radius)
-      head_x += (cloud[i] - f.handle_point).dot(x), head_out += out, head.push_back(i);
-  }
+  double head_x = 0.0;
+  for (const auto i : handle.head) head_x += (cloud[i] - f.handle_point).dot(x);
+  const double head_out = handle.head_out;
   // Seen along the handle, a bar-like head (L, T, hook) lies along the effector axis, as the tool's frame
   // defines it; a T's two mirror planes, or a plane tilted by a slightly tilted handle, mirror alike.
   double bar_along_x = 0.0;
-  if (const auto line = head_line(cloud, head, f.handle_point, x, z, c))
+  if (const auto line = head_line(cloud, handle.head, f.handle_point, x, z, c))
     bar_along_x = std::sin(line->normal_angle) * std::sin(line->normal_angle);
   const double forward = f.diagnostics.effector_reach_positive, backward = f.diagnostics.effector_reach_negative;
-  // The hand closes on the handle: the held part lies within what it closes on of the handle's line.
-  int off_line = 0;
-  for (const auto& p : held) off_line += radial_distance(handle, p) > c.grasp_max_radius;
   const double reach = f.diagnostics.hand_to_handle / c.grasp_reach, radius = f.handle_radius / c.grasp_max_radius;
   return {
       reach,  // the handle's line's distance from the hand
       std::max(0.0, f.diagnostics.hand_to_handle - c.grasp_hold) / c.grasp_hold,  // ... beyond the hand's hold
       radius,                       // the handle's radius against what the hand closes on
       std::max(0.0, radius - 1.0),  // ... beyond it
-      held.empty() ? 0.0 : static_cast<double>(off_line) / static_cast<double>(held.size()),  // held part off it
-      f.symmetry_score,         // the head's mirror residual
-      rules_plane ? 1.0 : 0.0,  // the plane the rules choose about this handle, not an alternative
+      handle.held_off_line,         // the held part off it (the hand closes on the handle)
+      f.symmetry_score,             // the head's mirror residual
+      rules_plane ? 1.0 : 0.0,      // the plane the rules choose about this handle, not an alternative
       // How much farther the effector reaches along +X than along -X, as a share of both (-1 to 1)
       forward + backward > 0.0 ? (forward - backward) / (forward + backward) : 0.0,
       // The head's edges rising towards +X (a scoop's concave side), saturating once clear of the noise
@@ -997,6 +1023,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   for (const auto& [source, handle] : candidates) {
     const AboutHandle about(p.cloud, p.principal, handle, target, seen, config);
     const ToolFrame rules = frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config);
+    const HandleFeatures handle_measures = handle_features(about, p.cloud, held, config);
     std::vector<ToolFrame> frames{as_hypothesis(rules, config)};
     for (const double angle : alternative_planes_deg(rules))
       frames.push_back(
@@ -1005,7 +1032,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
       for (const bool reversed : {false, true}) {
         FrameHypothesis h{
             reversed ? other_side(frames[plane]) : frames[plane], source, plane == 0, reversed, {}, 0.0, std::nullopt};
-        h.features = features_of(h.frame, p.cloud, held, plane == 0, config);
+        h.features = features_of(h.frame, p.cloud, handle_measures, plane == 0, config);
         h.log_odds = model.log_odds(h.features);
         // None: nothing dense on its effector side. A stick's tip and a blade's far end do not depend on the
         // side (the rule ignores the effector axis, and the plane is the same), so the other side's is the one's.

@@ -66,18 +66,25 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   // Best first by the primary score, ties by index, so the order does not depend on the sort's stability.
   // Only the best end is needed (the first dense candidate and those tied with it), so the candidates
   // within twice tie-tolerance of the best are sorted first, and the rest only if the search reaches them.
-  std::vector<std::uint32_t> candidates;
+  // Each with its score beside it: the sorts and scans read them together.
+  struct Candidate {
+    double score;
+    std::uint32_t index;
+  };
+  std::vector<Candidate> candidates;
   candidates.reserve(cache.beyond_hand().size());
-  std::vector<double> s(points.size());
   double best_score = -std::numeric_limits<double>::infinity();
   for (const auto i : cache.beyond_hand())
     if (const double along = (points[i] - frame.origin).dot(y); along < 0) {
-      candidates.push_back(i);
-      best_score = std::max(best_score, s[i] = primary(i, along));
+      candidates.push_back({primary(i, along), i});
+      best_score = std::max(best_score, candidates.back().score);
     }
-  const auto better = [&](std::uint32_t a, std::uint32_t b) { return s[a] > s[b] || (s[a] == s[b] && a < b); };
-  const auto top_end = std::partition(candidates.begin(), candidates.end(),
-                                      [&](std::uint32_t i) { return s[i] >= best_score - 2 * config.tie_tolerance; });
+  const auto better = [](const Candidate& a, const Candidate& b) {
+    return a.score > b.score || (a.score == b.score && a.index < b.index);
+  };
+  const auto top_end = std::partition(candidates.begin(), candidates.end(), [&](const Candidate& c) {
+    return c.score >= best_score - 2 * config.tie_tolerance;
+  });
   std::sort(candidates.begin(), top_end, better);
   bool all_sorted = top_end == candidates.end();
   const auto sort_all = [&] {
@@ -89,17 +96,19 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   p.candidates = static_cast<int>(candidates.size());
   // Points scoring within tie-tolerance (about 3 sigma of the noise) of the best dense point tie: noise,
   // not the shape, decides which of them scores best.
-  auto first_dense = std::find_if(candidates.begin(), top_end, dense);
+  const auto dense_candidate = [&](const Candidate& c) { return dense(c.index); };
+  auto first_dense = std::find_if(candidates.begin(), top_end, dense_candidate);
   if (first_dense == top_end) {
     sort_all();
-    first_dense = std::find_if(top_end, candidates.end(), dense);
+    first_dense = std::find_if(top_end, candidates.end(), dense_candidate);
   }
   p.rejected_sparse = static_cast<int>(first_dense - candidates.begin());
   if (first_dense == candidates.end()) return p;
-  const double cutoff = s[*first_dense] - config.tie_tolerance;
+  const double cutoff = first_dense->score - config.tie_tolerance;
   if (cutoff < best_score - 2 * config.tie_tolerance) sort_all();  // the ties reach below the sorted part
-  for (auto it = first_dense; it != candidates.end() && s[*it] >= cutoff; ++it)
-    if (dense(*it)) p.tied.push_back(*it);
+  std::vector<double> tied_scores;
+  for (auto it = first_dense; it != candidates.end() && it->score >= cutoff; ++it)
+    if (dense(it->index)) p.tied.push_back(it->index), tied_scores.push_back(it->score);
   // The tie-break. furthest: the distance from the hand. weighted: the original's score with the
   // distance in front averaged over the smoothing-neighbors nearest points: along a flat front the
   // score changes by only (1 - w) per metre, so a point's own noise would move the choice by several
@@ -116,7 +125,8 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   Vec3 end_centre = Vec3::Zero();
   for (auto i : p.tied) end_centre += points[i] / static_cast<double>(p.tied.size());
   double best = -std::numeric_limits<double>::infinity();
-  for (auto i : p.tied) {
+  for (std::size_t j = 0; j < p.tied.size(); ++j) {
+    const std::uint32_t i = p.tied[j];
     double t = cache.from_hand(i);
     if (frame.stick) {
       t = -(points[i] - end_centre).norm();
@@ -128,9 +138,8 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
       t = frame.tip_at_far_end() ? mean : config.effector_weight * mean + (1.0 - config.effector_weight) * t;
     }
     p.tie_breaks.push_back(t);
-    if (t > best) best = t, p.chosen = i;
+    if (t > best) best = t, p.chosen = i, p.score = tied_scores[j];
   }
-  p.score = s[p.chosen];
   return p;
 }
 

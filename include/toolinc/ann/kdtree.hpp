@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -48,7 +49,7 @@ class KdTree {
     double split_value;
   };
   struct Entry {
-    Vec3 point;
+    std::array<double, 3> point;  // plain data, which the partitions move as bytes
     std::uint32_t index;
   };
   std::int32_t build(std::vector<Entry>& entries, std::uint32_t begin, std::uint32_t end, int leaf_size);
@@ -75,14 +76,22 @@ class KNearest {
       return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
     };
     const KdTree::Neighbor candidate{index, distance2};
-    if (full() && !closer(candidate, kept_.back())) return;
-    kept_.insert(std::upper_bound(kept_.begin(), kept_.end(), candidate, closer), candidate);
-    if (static_cast<int>(kept_.size()) > k_) kept_.pop_back();
+    if (k_ == 0 || (full() && !closer(candidate, kept_.back()))) return;
+    // Into its place by insertion, over the farthest kept when full: for so few, cheaper than a vector insert.
+    std::size_t at = kept_.size();
+    if (full())
+      --at;
+    else
+      kept_.push_back(candidate);
+    for (; at > 0 && closer(candidate, kept_[at - 1]); --at) kept_[at] = kept_[at - 1];
+    kept_[at] = candidate;
     if (full()) bound2 = kept_.back().distance2;
   }
   bool full() const { return static_cast<int>(kept_.size()) == k_; }
   void clear() { kept_.clear(); }
   const std::vector<KdTree::Neighbor>& kept() const { return kept_; }
+  // The kept neighbours moved out, which leaves none kept: a search's result without a copy.
+  std::vector<KdTree::Neighbor> take() { return std::move(kept_); }
 
  private:
   int k_;
