@@ -59,6 +59,24 @@ Result frame_and_tip(const Points& cloud, double piece_gap, const std::vector<st
   return {std::move(frame), std::move(tip)};
 }
 
+// Two views saw the tool, each point by one of them at random (view bits 1 and 2).
+std::vector<std::uint32_t> two_views(std::size_t points, Rng& rng) {
+  std::vector<std::uint32_t> views;
+  for (std::size_t i = 0; i < points; ++i) views.push_back(rng.uniform(0.0, 1.0) < 0.5 ? 1u : 2u);
+  return views;
+}
+
+// A third view (bit 4) saw a strip, `width` wide across `normal`, joined to `tip` and reaching `length` on
+// beyond it along `out`.
+void add_strip(Points& cloud, std::vector<std::uint32_t>& views, const Vec3& tip, const Vec3& out, const Vec3& normal,
+               double length, double width, Rng& rng) {
+  for (double s = 0.0; s <= length; s += kSpacing) {
+    const Points row = patch(tip + (s + kSpacing) * out, normal, width, rng);
+    for (const auto& p : row)
+      if (std::abs((p - tip).dot(out) - s - kSpacing) < kSpacing) cloud.push_back(p), views.push_back(4u);
+  }
+}
+
 bool doubts_one_view(const Confidence& confidence) {
   return std::any_of(confidence.doubts.begin(), confidence.doubts.end(),
                      [](const std::string& d) { return d.find("one view only") != std::string::npos; });
@@ -129,9 +147,7 @@ TEST(HeldPiece, TipSeenByOneViewOnlyIsDoubtful) {
       SCOPED_TRACE(to_string(family) + ", seed " + std::to_string(seed));
       const auto held = make_held_tool(family, 7200u + seed);
       Rng rng(seed);
-      // Two views saw the tool, each point by one of them at random.
-      std::vector<std::uint32_t> views;
-      for (std::size_t i = 0; i < held.observed.size(); ++i) views.push_back(rng.uniform(0.0, 1.0) < 0.5 ? 1u : 2u);
+      std::vector<std::uint32_t> views = two_views(held.observed.size(), rng);
       const Result both = frame_and_tip(held.observed, ToolFrameConfig{}.piece_gap, views);
       EXPECT_EQ(both.tip.views_in_cloud, 2);
       EXPECT_EQ(both.tip.views_at_tip, 2);
@@ -143,11 +159,7 @@ TEST(HeldPiece, TipSeenByOneViewOnlyIsDoubtful) {
       const Vec3 tip = true_tip(held.truth, both.tip.position);
       const Vec3 out = tip.normalized();
       Points cloud = held.observed;
-      for (double s = 0.0; s <= 0.05; s += kSpacing) {
-        const Points row = patch(tip + (s + kSpacing) * out, out.unitOrthogonal(), 0.02, rng);
-        for (const auto& p : row)
-          if (std::abs((p - tip).dot(out) - s - kSpacing) < kSpacing) cloud.push_back(p), views.push_back(4u);
-      }
+      add_strip(cloud, views, tip, out, out.unitOrthogonal(), 0.05, 0.02, rng);
       const Result strip = frame_and_tip(cloud, ToolFrameConfig{}.piece_gap, views, 1);
       EXPECT_EQ(strip.tip.detached_points, 0);
       EXPECT_EQ(strip.tip.views_in_cloud, 3);
@@ -168,19 +180,14 @@ TEST(HeldPiece, SmearOneViewLaidBeyondAFarEndIsNotTheTip) {
       SCOPED_TRACE(to_string(family) + ", seed " + std::to_string(seed));
       const auto held = make_held_tool(family, 7300u + seed);
       Rng rng(seed);
-      std::vector<std::uint32_t> views;
-      for (std::size_t i = 0; i < held.observed.size(); ++i) views.push_back(rng.uniform(0.0, 1.0) < 0.5 ? 1u : 2u);
+      std::vector<std::uint32_t> views = two_views(held.observed.size(), rng);
       const Result clean = frame_and_tip(held.observed, ToolFrameConfig{}.piece_gap, views);
       ASSERT_TRUE(clean.frame.tip_at_far_end() || clean.frame.stick);
       ASSERT_LT(tooltip_error(held.truth, clean.tip.position), kTipTolerance);
       // A third view's smear: a 1 cm wide strip joined to the far end, 3 cm on beyond it along the handle.
       const Vec3 tip = true_tip(held.truth, clean.tip.position), out = -clean.frame.handle_axis();
       Points cloud = held.observed;
-      for (double s = 0.0; s <= 0.03; s += kSpacing) {
-        const Points row = patch(tip + (s + kSpacing) * out, clean.frame.effector_axis(), 0.01, rng);
-        for (const auto& p : row)
-          if (std::abs((p - tip).dot(out) - s - kSpacing) < kSpacing) cloud.push_back(p), views.push_back(4u);
-      }
+      add_strip(cloud, views, tip, out, clean.frame.effector_axis(), 0.03, 0.01, rng);
       TooltipConfig config;
       const ToolFrame frame = estimate_tool_frame(cloud, {}, {}, views);
       ASSERT_TRUE(frame.tip_at_far_end() || frame.stick);
