@@ -124,8 +124,8 @@ const std::vector<Parameter<TooltipConfig>>& tooltip_parameters() {
        "How deep a fringe of fattened or misregistered surface may lie beyond the true edge; 0: none", &T::fringe_depth,
        0, kClosed, 1},
       {"tip-views", "",
-       "In a merge of views: a blade's or a stick's far end counts only where the points within tip-edge-radius of it "
-       "were seen by this many views (or all the cloud's, if fewer); 1: any",
+       "In a merge of views: a blade's far end counts only where the points within tip-edge-radius of it were seen "
+       "by this many views (or all the cloud's, if fewer); 1: any",
        &T::tip_views, 1, kClosed, 32},
   };
   return table;

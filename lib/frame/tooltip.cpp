@@ -143,11 +143,10 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   return p;
 }
 
-// The rule's pick among the candidates tip-views allows (a blade's or a stick's far end), or among them
-// all when it allows none.
+// The rule's pick among the candidates tip-views allows (a blade's far end), or among them all when it
+// allows none.
 Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
-  const bool with_views =
-      cache.config().tip_views > 1 && cache.views_in_cloud() > 1 && (frame.tip_at_far_end() || frame.stick);
+  const bool with_views = cache.config().tip_views > 1 && cache.views_in_cloud() > 1 && frame.tip_at_far_end();
   Pick p = pick(cache, frame, with_views);
   if (with_views && p.chosen == KdTree::npos) p = pick(cache, frame, false);
   return p;

@@ -40,13 +40,13 @@ struct TooltipConfig {
   double fringe_depth = 0.01;        // m: how deep a fringe of fattened or misregistered surface may lie
                                      //    beyond the true edge (the robot's clouds: a tenth of their points
                                      //    lie more than 11 mm off the surface); 0: no fringe
-  int tip_views = 2;                 // in a merge of views, a blade's or a stick's far end counts only where
-                                     //    the points within tip-edge-radius of it were seen by this many views
-                                     //    (or all the cloud's, if fewer): smear stretches an edge along one
-                                     //    view's rays, where no other view saw anything, while a plate faces
-                                     //    several and a stick's end is in sight of all. A hook's or hoe's
-                                     //    front may face one view alone, and the weighted rule takes it. A tool
-                                     //    none of whose points pass keeps every candidate. 1: any
+  int tip_views = 2;                 // in a merge of views, a blade's far end counts only where the points
+                                     //    within tip-edge-radius of it were seen by this many views (or all
+                                     //    the cloud's, if fewer): smear stretches a plate's edge along one
+                                     //    view's rays, where no other view saw anything, while the plate
+                                     //    faces several. A hook's or hoe's front may face one view alone, and
+                                     //    the weighted rule takes it. A blade none of whose points pass keeps
+                                     //    every candidate. 1: any
 };
 
 // The tooltip ignores the hand and what it does not hold as the frame does: its hand-radius and piece-gap.
