@@ -880,16 +880,18 @@ ToolFrame other_side(ToolFrame frame) {
 
 // What the features measure about a handle alone, whatever the plane and side: the head's points (the
 // effector side's beyond head-radius-factor handle radii of its axis) and their summed distance from it,
-// and the share of the part the hand holds (held-share) that lies off the handle's line, beyond what the
-// hand closes on.
+// the share of the part the hand holds (held-share) that lies off the handle's line, beyond what the
+// hand closes on, and the normal of a bar-like head's line seen along the handle.
 struct HandleFeatures {
   const std::vector<std::uint32_t>& head;
   double head_out = 0.0;
   double held_off_line = 0.0;
+  std::optional<Vec3> bar_normal;
 };
 HandleFeatures handle_features(const AboutHandle& about, const Points& cloud, const Points& held,
                                const ToolFrameConfig& c) {
-  HandleFeatures features{about.head};
+  HandleFeatures features{about.head, 0.0, 0.0, std::nullopt};
+  if (about.bar_line) features.bar_normal = about.normal_at(about.bar_line->normal_angle);
   for (const auto i : about.head) features.head_out += radial_distance(about.line, cloud[i]);
   int off_line = 0;
   for (const auto& p : held) off_line += radial_distance(about.line, p) > c.grasp_max_radius;
@@ -901,17 +903,16 @@ HandleFeatures handle_features(const AboutHandle& about, const Points& cloud, co
 // comparable between hypotheses (measured the same way whatever the candidate handle came from).
 std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const HandleFeatures& handle,
                                                bool rules_plane, const ToolFrameConfig& c) {
-  const Vec3 x = f.effector_axis(), z = f.symmetry_axis();
+  const Vec3 x = f.effector_axis();
   // The head's mean point along +X, against its points' mean distance from the handle's axis: the side its
   // material lies on (-1 to 1), which smear moves little.
   double head_x = 0.0;
   for (const auto i : handle.head) head_x += (cloud[i] - f.handle_point).dot(x);
   const double head_out = handle.head_out;
   // Seen along the handle, a bar-like head (L, T, hook) lies along the effector axis, as the tool's frame
-  // defines it; a T's two mirror planes, or a plane tilted by a slightly tilted handle, mirror alike.
-  double bar_along_x = 0.0;
-  if (const auto line = head_line(cloud, handle.head, f.handle_point, x, z, c))
-    bar_along_x = std::sin(line->normal_angle) * std::sin(line->normal_angle);
+  // defines it; a T's two mirror planes, or a plane tilted by a slightly tilted handle, mirror alike. The
+  // bar lies along X as its line's normal lies along Z.
+  const double bar_along_x = handle.bar_normal ? std::pow(handle.bar_normal->dot(f.symmetry_axis()), 2) : 0.0;
   const double forward = f.diagnostics.effector_reach_positive, backward = f.diagnostics.effector_reach_negative;
   const double reach = f.diagnostics.hand_to_handle / c.grasp_reach, radius = f.handle_radius / c.grasp_max_radius;
   return {
