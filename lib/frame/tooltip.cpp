@@ -35,6 +35,9 @@ void share_hand_settings(const ToolFrameConfig& frame, TooltipConfig& tooltip) {
 
 namespace {
 
+// How many views a bit mask of views names.
+int views_in(std::uint32_t mask) { return static_cast<int>(std::bitset<32>(mask).count()); }
+
 // One application of the rule on one frame: the chosen point, the tied points and their tie-breaks.
 struct Pick {
   std::uint32_t chosen = KdTree::npos;
@@ -269,7 +272,7 @@ TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const Toolt
     throw std::invalid_argument("find_tooltip: views must be empty or one per point");
   std::uint32_t in_cloud = 0;
   for (const auto v : views_) in_cloud |= v;
-  views_in_cloud_ = static_cast<int>(std::bitset<32>(in_cloud).count());
+  views_in_cloud_ = views_in(in_cloud);
   from_hand_.reserve(points.size());
   for (const auto& p : points) from_hand_.push_back(p.norm());
 }
@@ -278,7 +281,7 @@ int TooltipCache::views_near(const Vec3& point, double radius) const {
   if (views_.empty()) return 0;
   std::uint32_t near = 0;
   for (const auto i : tree_.within(point, radius)) near |= views_[i];
-  return static_cast<int>(std::bitset<32>(near).count());
+  return views_in(near);
 }
 
 bool TooltipCache::seen_by_enough(std::uint32_t index) const {

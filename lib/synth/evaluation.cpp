@@ -133,11 +133,14 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
   const bool salient = tool_symmetry(config) == ToolSymmetry::mirror;
   try {
     const PointCloud& model = m.merged.model;
+    // One tree and cache for every hypothesis's tooltip (find-tooltip's, with the pipeline's settings).
+    const KdTree tree(model.points);
+    const TooltipCache tooltips(model.points, tree, pipeline.tooltip, model.views);
     for (const auto& h :
          frame_hypotheses(model.points, pipeline.frame, model.viewpoints, fitted_frame_score(), model.views)) {
       double error = std::numeric_limits<double>::infinity();
       try {
-        error = tooltip_error(m.relative, find_tooltip(model.points, h.frame, pipeline.tooltip, model.views).position);
+        error = tooltip_error(m.relative, find_tooltip(tooltips, h.frame).position);
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
       const bool effector_right = !salient || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
