@@ -6,7 +6,8 @@
 // within --handle-tolerance of its session's best candidate's; a choice model of the hypotheses' features is fitted so
 // that each session's right ones are the likely ones. On sessions of other seeds, never fitted on, the chosen
 // hypotheses' probabilities are compared with how often their tooltips were right (the calibration table),
-// and the probability from which 98 % of chosen tooltips lie within 15 mm becomes the confidence threshold.
+// and the probability from which 98 % of the chosen tooltips that find-tooltip's other checks pass (only those
+// can be called confident) lie within 15 mm becomes the confidence threshold.
 // The real tools, the CAD models and the robot's reconstructions are never fitted on: they are the exam.
 // The output is configs/frame-score.json's contents.
 #include <spdlog/fmt/fmt.h>
@@ -200,14 +201,14 @@ int main(int argc, char** argv) {
       labelled[i] = toolinc::labelled_frame_hypotheses(session, pipeline);
     });
     if (!hypotheses_csv.empty()) {
-      std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right,handle_deg";
+      std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right,handle_deg,backed";
       for (const char* name : toolinc::frame_feature_names()) csv += std::string(",") + name;
       csv += "\n";
       for (std::size_t i = 0; i < cases.size(); ++i)
         for (const auto& h : labelled[i]) {
-          csv += fmt::format("{},{},{},\"{}\",{},{},{},{}", i < fitted ? "fit" : "calibration",
+          csv += fmt::format("{},{},{},\"{}\",{},{},{},{},{}", i < fitted ? "fit" : "calibration",
                              toolinc::to_string(cases[i].family), cases[i].seed, h.handle_source, int{h.side_reversed},
-                             h.tooltip_m, int{h.effector_right}, h.handle_deg);
+                             h.tooltip_m, int{h.effector_right}, h.handle_deg, int{h.backed});
           for (const double f : h.features) csv += fmt::format(",{}", f);
           csv += "\n";
         }
@@ -232,18 +233,20 @@ int main(int argc, char** argv) {
     toolinc::FrameScoreModel model;
     for (int f = 0; f < toolinc::kFrameFeatures; ++f) model.weights[f] = fit.weights[f];
 
-    // On the sessions never fitted on: the chosen hypotheses' probabilities against their tooltips' errors.
-    std::vector<std::pair<double, bool>> chosen;
+    // On the sessions never fitted on: the chosen hypotheses' probabilities against their tooltips' errors;
+    // the threshold on those whose other checks pass, as it is applied.
+    std::vector<std::pair<double, bool>> chosen, backed;
     int chosen_right = 0, any_right = 0;
     for (const auto& hypotheses : calibrate_on) {
       if (hypotheses.empty()) continue;
       const Choice c = choose(model, hypotheses, pipeline.tooltip.ambiguity_distance);
       chosen.emplace_back(c.probability, c.chosen->tooltip_m <= confident_tolerance);
+      if (c.chosen->backed) backed.push_back(chosen.back());
       chosen_right += is_right(*c.chosen, hypotheses);
       any_right +=
           std::any_of(hypotheses.begin(), hypotheses.end(), [&](const auto& h) { return is_right(h, hypotheses); });
     }
-    model.confident_probability = confident_probability(chosen, precision);
+    model.confident_probability = confident_probability(backed, precision);
     toolinc::Json calibration = toolinc::Json::array();
     for (int bin = 0; bin < 5; ++bin) {
       const double lo = 0.2 * bin, hi = 0.2 * (bin + 1);
@@ -258,15 +261,16 @@ int main(int argc, char** argv) {
                                {"within_confident_tolerance", static_cast<double>(right) / n}});
     }
     int confident = 0, confident_right = 0;
-    for (const auto& [p, ok] : chosen)
+    for (const auto& [p, ok] : backed)
       confident += p >= model.confident_probability, confident_right += ok && p >= model.confident_probability;
     int positives = 0;
     for (const int label : labels) positives += label;
     std::printf(
         "fitted on %zu hypotheses of %zu sessions (%d right); on %zu calibration sessions the choice is right on %d, "
-        "some hypothesis on %d; confident from probability %.3f: %d sessions, %d of them within %.0f mm\n",
-        rows.size(), fit_on.size(), positives, chosen.size(), chosen_right, any_right, model.confident_probability,
-        confident, confident_right, 1000 * confident_tolerance);
+        "some hypothesis on %d, the other checks pass on %zu; confident from probability %.3f: %d sessions, %d of "
+        "them within %.0f mm\n",
+        rows.size(), fit_on.size(), positives, chosen.size(), chosen_right, any_right, backed.size(),
+        model.confident_probability, confident, confident_right, 1000 * confident_tolerance);
     toolinc::Json features = toolinc::Json::array(), weights = toolinc::Json::array();
     for (int f = 0; f < toolinc::kFrameFeatures; ++f) {
       features.push_back(toolinc::frame_feature_names()[f]);
@@ -307,6 +311,7 @@ int main(int argc, char** argv) {
           {{"sessions", chosen.size()},
            {"chosen_right", chosen_right},
            {"some_hypothesis_right", any_right},
+           {"other_checks_pass", backed.size()},
            {"confident", confident},
            {"confident_within_tolerance", confident_right},
            {"table", calibration}}},

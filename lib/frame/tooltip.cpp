@@ -309,9 +309,11 @@ double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction
   const double step = retreat_step(config);
   const int steps = static_cast<int>(std::round(config.fringe_depth / step));
   const auto density = [&](int k) { return tree.count_within(point - k * step * direction, config.tip_edge_radius); };
-  const std::size_t behind = density(steps);
+  std::vector<std::size_t> along;
+  for (int k = 0; k <= steps; ++k) along.push_back(density(k));
+  const std::size_t peak = *std::max_element(along.begin(), along.end());
   for (int k = 0; k < steps; ++k)
-    if (2 * density(k) >= behind) return k * step;
+    if (2 * along[k] >= peak) return k * step;
   return config.fringe_depth;
 }
 

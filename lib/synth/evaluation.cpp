@@ -139,13 +139,16 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
     for (const auto& h :
          frame_hypotheses(model.points, pipeline.frame, model.viewpoints, fitted_frame_score(), model.views)) {
       double error = std::numeric_limits<double>::infinity();
+      bool backed = false;
       try {
-        error = tooltip_error(m.relative, find_tooltip(tooltips, h.frame).position);
+        const Tooltip tip = find_tooltip(tooltips, h.frame);
+        error = tooltip_error(m.relative, tip.position);
+        backed = tip.confidence.confident;
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
       const bool effector_right = !salient || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
       labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, error, effector_right,
-                          handle_axis_error_deg(m.relative, h.frame.handle_axis())});
+                          handle_axis_error_deg(m.relative, h.frame.handle_axis()), backed});
     }
   } catch (const MethodError&) {  // a degenerate merged model: nothing to learn from
     labelled.clear();

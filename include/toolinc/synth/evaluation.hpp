@@ -83,6 +83,9 @@ struct LabelledHypothesis {
   // its far end whichever side the frame takes, so the tip alone does not tell its working side.
   bool effector_right = true;
   double handle_deg = 0.0;  // the handle axis's angle from the true one (a stick's tip does not tell it)
+  // Every check of find-tooltip's confidence but the choice's probability passes (the grasp, a tied point or
+  // plane, a blade's spread, a tip one view saw): only such a hypothesis, chosen, can be called confident.
+  bool backed = false;
 };
 std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulatorConfig& session,
                                                           const PipelineConfig& pipeline = {});
