@@ -368,13 +368,13 @@ TEST(ToolFrameAccuracy, RivalSymmetryPlanesAreTheOtherMirrorsOfTheHead) {
 
 namespace {
 
-// A flat plate x <= 0 sampled every millimetre, its edge at x = 0, and beyond it a fringe `fringe` deep
-// whose density falls linearly to nothing (a fattened silhouette); `outermost` is its outermost point.
-Points plate_with_fringe(double fringe, Vec3& outermost) {
+// A flat plate -depth <= x <= 0 sampled every millimetre, its edge at x = 0, and beyond it a fringe `fringe`
+// deep whose density falls linearly to nothing (a fattened silhouette); `outermost` is its outermost point.
+Points plate_with_fringe(double fringe, Vec3& outermost, double depth = 0.05) {
   Rng rng(5);
   Points plate;
   for (double y = -0.03; y <= 0.03; y += 0.001)
-    for (double x = -0.05; x <= fringe + 1e-9; x += 0.001)
+    for (double x = -depth; x <= fringe + 1e-9; x += 0.001)
       if (x <= 1e-9 || rng.uniform() > x / fringe) plate.push_back(Vec3(x, y, 0.0));
   outermost = plate.front();
   for (const auto& p : plate)
@@ -395,6 +395,13 @@ TEST(TooltipEdge, FringeRetreatsTowardsTheEdgeSharpEdgesAndThinPartsStay) {
   // about 8 mm out.
   EXPECT_GT(outermost.x(), 0.006);
   EXPECT_LT(std::abs(outermost.x() - back), 0.004) << "outermost at " << outermost.x() << ", back " << back;
+
+  // A face's shell seen from outside (two rows, hollow behind: a hook's or a cap's front) with the same
+  // fringe: the density peaks at the shell, and the point goes back towards it though nothing lies behind
+  // (the density fringe-depth behind lies in the hollow: against it the point would stay). The fringe holds more
+  // points than the shell, so half the peak lies well out in the fringe's ramp: 2 of its 7 mm.
+  const Points shell = plate_with_fringe(0.008, outermost, 0.001);
+  EXPECT_GE(edge_retreat(KdTree(shell), outermost, Vec3::UnitX(), config), 0.0015);
 
   const Points sharp = plate_with_fringe(0.0, outermost);
   EXPECT_LE(edge_retreat(KdTree(sharp), outermost, Vec3::UnitX(), config), 0.001);
