@@ -55,7 +55,7 @@ Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypothese
   std::vector<double> scores;
   std::vector<std::optional<toolinc::Vec3>> tooltips;
   for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip);
-  const auto best = static_cast<std::size_t>(std::max_element(scores.begin(), scores.end()) - scores.begin());
+  const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, radius);
   return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, radius)};
 }
 

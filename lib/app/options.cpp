@@ -34,8 +34,8 @@ void add_parameter_options(CLI::App& cli, Config& config, const std::vector<Para
 void add_tool_frame_options(CLI::App& cli, ToolFrameConfig& c) {
   cli.add_option_function<std::string>(
          "--method", [&c](const std::string& name) { c.method = frame_method_from_string(name); },
-         "rules (each axis decided once) or search (every hypothesis scored by the fitted model, the most likely "
-         "kept)")
+         "rules (each axis decided once) or search (every hypothesis scored by the fitted model, the one whose "
+         "tooltip is likeliest kept)")
       ->default_str(to_string(c.method))
       ->group("Tool frame")
       ->check(CLI::IsMember({"rules", "search"}));

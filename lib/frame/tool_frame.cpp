@@ -993,6 +993,22 @@ double tooltip_probability(const std::vector<double>& scores, const std::vector<
   return agreeing / total;
 }
 
+std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
+                                  double radius) {
+  std::size_t centre = 0;
+  double best = -1.0;
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    const double p = tooltip_probability(scores, tooltips, i, radius);
+    if (p > best || (p == best && scores[i] > scores[centre])) best = p, centre = i;
+  }
+  if (!tooltips[centre]) return centre;
+  // Of the hypotheses that agree on that tip, the likeliest: its frame is the one to give.
+  std::size_t chosen = centre;
+  for (std::size_t i = 0; i < scores.size(); ++i)
+    if (tooltips[i] && (*tooltips[i] - *tooltips[centre]).norm() <= radius && scores[i] > scores[chosen]) chosen = i;
+  return chosen;
+}
+
 double FrameScoreModel::log_odds(const std::array<double, kFrameFeatures>& features) const {
   double sum = 0.0;
   for (int i = 0; i < kFrameFeatures; ++i) sum += weights[i] * features[i];
@@ -1049,16 +1065,20 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
                               const std::vector<std::uint32_t>& views) {
   if (config.method == FrameMethod::search) {
     const auto hypotheses = frame_hypotheses(input, config, viewpoints, fitted_frame_score(), views);
-    std::vector<std::size_t> order(hypotheses.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return hypotheses[a].log_odds > hypotheses[b].log_odds; });
-    const FrameHypothesis& best = hypotheses[order.front()];
-    ToolFrame frame = best.frame;
-    // The choice model's probabilities: each hypothesis's share of exp(score) among them all.
     std::vector<double> scores;
     std::vector<std::optional<Vec3>> tooltips;
     for (const auto& h : hypotheses) scores.push_back(h.log_odds), tooltips.push_back(h.tooltip);
+    const double radius = TooltipConfig{}.ambiguity_distance;
+    const std::size_t chosen = most_probable_tooltip(scores, tooltips, radius);
+    // The chosen first, then by score.
+    std::vector<std::size_t> order(hypotheses.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return std::pair{a == chosen, hypotheses[a].log_odds} > std::pair{b == chosen, hypotheses[b].log_odds};
+    });
+    const FrameHypothesis& best = hypotheses[chosen];
+    ToolFrame frame = best.frame;
+    // The choice model's probabilities: each hypothesis's share of exp(score) among them all.
     double total = 0.0;
     for (const double z : scores) total += std::exp(z - best.log_odds);
     for (const std::size_t i : order) {
@@ -1071,7 +1091,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
     // The rules' doubts are the search's features and alternatives: the confidence is the chosen tooltip's
     // probability, against the level calibrated, on sessions the fit did not see, for 98 % of confident
     // tooltips within 15 mm.
-    const double probability = tooltip_probability(scores, tooltips, order.front(), TooltipConfig{}.ambiguity_distance);
+    const double probability = tooltip_probability(scores, tooltips, chosen, radius);
     const double needed = fitted_frame_score().confident_probability;
     frame.diagnostics.tooltip_probability = probability;
     frame.confidence.check(probability >= needed ? std::max((probability - needed) / std::max(1.0 - needed, 1e-9), 1e-9)

@@ -150,16 +150,31 @@ TEST(FrameSearch, TheTooltipsProbabilityIsTheShareOfTheHypothesesAgreeingOnIt) {
   EXPECT_NEAR(tooltip_probability(scores, one_missing, 1, 0.01), 0.25, 1e-12);
 }
 
-TEST(FrameSearch, KeepsTheMostLikelyHypothesis) {
+TEST(FrameSearch, TheChoiceIsTheTipWithTheMostProbabilityThenItsLikeliestHypothesis) {
+  // The likeliest hypothesis alone 10 cm away, against two less likely ones 5 mm apart whose sum outweighs
+  // it: the two's tip, and of them the likelier.
+  const std::vector<double> scores{std::log(2.0), 0.0, 0.1};
+  const std::vector<std::optional<Vec3>> tips{Vec3(0.2, 0, 0), Vec3(0.1, 0, 0), Vec3(0.105, 0, 0)};
+  EXPECT_EQ(most_probable_tooltip(scores, tips, 0.01), 2u);
+  // Apart (a 1 mm radius), each stands alone and the likeliest wins.
+  EXPECT_EQ(most_probable_tooltip(scores, tips, 0.001), 0u);
+  // A hypothesis without a tooltip is not chosen while another has one.
+  EXPECT_EQ(most_probable_tooltip({5.0, 0.0}, {std::nullopt, Vec3(0.1, 0, 0)}, 0.01), 1u);
+}
+
+TEST(FrameSearch, KeepsTheHypothesisWhoseTooltipIsLikeliest) {
   const HeldToolCase held = make_held_tool(ToolFamily::l_stick, 2);
   ToolFrameConfig config;
   config.method = FrameMethod::search;
   const auto hypotheses = frame_hypotheses(held.observed, config);
-  std::size_t best = 0;
-  for (std::size_t i = 1; i < hypotheses.size(); ++i)
-    if (hypotheses[i].log_odds > hypotheses[best].log_odds) best = i;
+  std::vector<double> scores;
+  std::vector<std::optional<Vec3>> tips;
+  for (const auto& h : hypotheses) scores.push_back(h.log_odds), tips.push_back(h.tooltip);
+  const std::size_t chosen = most_probable_tooltip(scores, tips, TooltipConfig{}.ambiguity_distance);
   const ToolFrame frame = estimate_tool_frame(held.observed, config);
-  EXPECT_TRUE(frame.axes.isApprox(hypotheses[best].frame.axes));
+  EXPECT_TRUE(frame.axes.isApprox(hypotheses[chosen].frame.axes));
+  EXPECT_NEAR(frame.diagnostics.tooltip_probability,
+              tooltip_probability(scores, tips, chosen, TooltipConfig{}.ambiguity_distance), 1e-12);
   // A model that scores only the effector's salience, against it: the least salient side wins.
   const std::size_t salience = feature_index("effector_reach_asymmetry");
   ASSERT_LT(salience, frame_feature_names().size());

@@ -49,6 +49,13 @@ const FrameScoreModel& fitted_frame_score();
 double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
                            std::size_t chosen, double radius);
 
+// The hypothesis to choose when what matters is a tooltip within `radius` of the truth (the Bayes choice
+// for that loss): the tip whose probability is highest (ties to the higher score, then to the earlier
+// one), and of the hypotheses within `radius` of it the likeliest, whose frame is then the best for that
+// tip. Several hypotheses that agree on a tip outweigh a likelier one alone with another.
+std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
+                                  double radius);
+
 // Every hypothesis, scored by `model`, in a fixed order (candidate handles as listed above; about each the
 // rules' plane, then its alternatives; on each plane the rules' side, then the other). Throws MethodError on degenerate
 // input, as estimate_tool_frame does; viewpoints and views as it takes them.
