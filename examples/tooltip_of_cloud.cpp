@@ -12,8 +12,8 @@ int main(int argc, char** argv) {
   }
   try {
     const toolinc::PointCloud cloud = toolinc::read_cloud(argv[1]);
-    const toolinc::ToolFrame frame = toolinc::estimate_tool_frame(cloud.points, {}, cloud.viewpoints, cloud.views);
-    const toolinc::Tooltip tip = toolinc::find_tooltip(cloud.points, frame, {}, cloud.views);
+    // Both steps on one kd-tree and held piece, as find-tooltip.
+    const auto [frame, tip] = toolinc::estimate_frame_and_tooltip(cloud.points, {}, {}, cloud.viewpoints, cloud.views);
     std::printf("tooltip %.17g %.17g %.17g\n", tip.position.x(), tip.position.y(), tip.position.z());
     std::printf("confident %s\n", tip.confidence.confident ? "yes" : "no");
   } catch (const std::exception& e) {

@@ -271,9 +271,10 @@ py::object find_tooltip_py(const py::handle& cloud, const py::object& frame, con
   const ToolFrame given = frame.is_none() ? ToolFrame{} : frame_from_python(frame);
   const PointCloud c = cloud_from_python(cloud, "cloud");
   if (c.empty()) throw InputError("", "cloud: the cloud has no points");
-  const ToolFrame used = frame.is_none() ? estimate_tool_frame(c.points, frame_config, c.viewpoints, c.views) : given;
-  return typed<TooltipResult>(
-      tooltip_json(find_tooltip(c.points, used, tooltip_config, c.views), used, tooltip_config));
+  const auto [used, tooltip] =
+      frame.is_none() ? estimate_frame_and_tooltip(c.points, frame_config, tooltip_config, c.viewpoints, c.views)
+                      : FrameAndTooltip{given, find_tooltip(c.points, given, tooltip_config, c.views)};
+  return typed<TooltipResult>(tooltip_json(tooltip, used, tooltip_config));
 }
 
 py::tuple merge_views_py(const py::list& views, const py::object& config, const py::kwargs& kwargs) {

@@ -831,11 +831,12 @@ struct Prepared {
   PrincipalAxes principal;
   ToolFrame frame;
 };
-Prepared prepare(const Points& input, const ToolFrameConfig& config) {
+// held: held_piece of input with the config's hand-radius and piece-gap.
+Prepared prepare(const Points& input, HeldPiece held_by_hand, const ToolFrameConfig& config) {
   if (config.handle_hand_skip >= config.handle_fraction)
     throw std::invalid_argument("handle-hand-skip must be below handle-fraction: nothing would be left to fit");
   Prepared p;
-  p.held = held_piece(input, config.hand_radius, config.piece_gap);
+  p.held = std::move(held_by_hand);
   Points held;
   held.reserve(p.held.indices.size());
   for (const auto i : p.held.indices) held.push_back(input[i]);
@@ -1015,17 +1016,38 @@ double FrameScoreModel::log_odds(const std::array<double, kFrameFeatures>& featu
   return sum;
 }
 
+namespace {
+
+// The tooltips of a frame estimated alone: find-tooltip's defaults with the frame's hand settings.
+TooltipConfig hypotheses_tooltip_config(const ToolFrameConfig& config) {
+  TooltipConfig tooltip_config;
+  share_hand_settings(config, tooltip_config);
+  return tooltip_config;
+}
+
+// The cache's held piece is the frame's only with the same hand settings.
+void check_hand_settings(const TooltipCache& tooltips, const ToolFrameConfig& config) {
+  if (tooltips.config().hand_radius != config.hand_radius || tooltips.config().piece_gap != config.piece_gap)
+    throw std::invalid_argument("the tooltip cache's hand-radius and piece-gap must be the frame's");
+}
+
+}  // namespace
+
 std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFrameConfig& config,
                                               const Points& viewpoints, const FrameScoreModel& model,
                                               const std::vector<std::uint32_t>& views) {
-  const Prepared p = prepare(input, config);
+  const KdTree tree(input);
+  return frame_hypotheses(TooltipCache(input, tree, hypotheses_tooltip_config(config), views), config, viewpoints,
+                          model);
+}
+
+std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& tooltip_cache, const ToolFrameConfig& config,
+                                              const Points& viewpoints, const FrameScoreModel& model) {
+  check_hand_settings(tooltip_cache, config);
+  const Prepared p = prepare(tooltip_cache.points(), tooltip_cache.held(), config);
   const FreeSpace free_space(p.cloud, viewpoints);
   const FreeSpace* seen = viewpoints.empty() ? nullptr : &free_space;
   const Points held = held_part(p.cloud, config.held_share);
-  TooltipConfig tooltip_config;
-  share_hand_settings(config, tooltip_config);
-  const KdTree tree(input);
-  const TooltipCache tooltip_cache(input, tree, tooltip_config, p.held, views);  // shared by every hypothesis's tooltip
   // The hand holds the handle: a candidate whose line passes beyond grasp-reach from it is no hypothesis,
   // unless every candidate does.
   auto candidates = handle_candidates(p.cloud, p.principal, config);
@@ -1061,10 +1083,33 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
   return hypotheses;
 }
 
+namespace {
+
+// Each axis decided once, as the rules decide it.
+ToolFrame rules_frame(const Points& input, HeldPiece held, const ToolFrameConfig& config, const Points& viewpoints) {
+  const Prepared p = prepare(input, std::move(held), config);
+  const FreeSpace free_space(p.cloud, viewpoints);
+  const HandleFit handle = rule_handle(p.cloud, p.principal, config);
+  const MirrorTarget target(p.cloud, config.symmetry_tolerance, config.symmetry_normal_neighbors);
+  return frame_about_handle(
+      p.frame, p.cloud, p.principal, handle,
+      AboutHandle(p.cloud, p.principal, handle, target, viewpoints.empty() ? nullptr : &free_space, config), config);
+}
+
+}  // namespace
+
 ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config, const Points& viewpoints,
                               const std::vector<std::uint32_t>& views) {
+  if (config.method == FrameMethod::rules)
+    return rules_frame(input, held_piece(input, config.hand_radius, config.piece_gap), config, viewpoints);
+  const KdTree tree(input);
+  return estimate_tool_frame(TooltipCache(input, tree, hypotheses_tooltip_config(config), views), config, viewpoints);
+}
+
+ToolFrame estimate_tool_frame(const TooltipCache& tooltips, const ToolFrameConfig& config, const Points& viewpoints) {
+  check_hand_settings(tooltips, config);
   if (config.method == FrameMethod::search) {
-    const auto hypotheses = frame_hypotheses(input, config, viewpoints, fitted_frame_score(), views);
+    const auto hypotheses = frame_hypotheses(tooltips, config, viewpoints, fitted_frame_score());
     std::vector<double> scores;
     std::vector<std::optional<Vec3>> tooltips;
     for (const auto& h : hypotheses) scores.push_back(h.log_odds), tooltips.push_back(h.tooltip);
@@ -1101,13 +1146,7 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
                                        best.side_reversed ? ", other side" : "", probability, needed));
     return frame;
   }
-  const Prepared p = prepare(input, config);
-  const FreeSpace free_space(p.cloud, viewpoints);
-  const HandleFit handle = rule_handle(p.cloud, p.principal, config);
-  const MirrorTarget target(p.cloud, config.symmetry_tolerance, config.symmetry_normal_neighbors);
-  return frame_about_handle(
-      p.frame, p.cloud, p.principal, handle,
-      AboutHandle(p.cloud, p.principal, handle, target, viewpoints.empty() ? nullptr : &free_space, config), config);
+  return rules_frame(tooltips.points(), tooltips.held(), config, viewpoints);
 }
 
 std::string to_string(FrameMethod method) { return method == FrameMethod::search ? "search" : "rules"; }

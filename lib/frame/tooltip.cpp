@@ -335,6 +335,17 @@ std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame&
   return edges_on_plane(cache.points(), frame, {cache.points()[p.chosen]}, cache.config())[0];
 }
 
+FrameAndTooltip estimate_frame_and_tooltip(const Points& points, const ToolFrameConfig& frame_config,
+                                           TooltipConfig tooltip_config, const Points& viewpoints,
+                                           const std::vector<std::uint32_t>& views) {
+  share_hand_settings(frame_config, tooltip_config);
+  const KdTree tree(points);
+  const TooltipCache cache(points, tree, tooltip_config, views);
+  FrameAndTooltip result{estimate_tool_frame(cache, frame_config, viewpoints), {}};
+  result.tooltip = find_tooltip(cache, result.frame);
+  return result;
+}
+
 Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
   const Points& points = cache.points();
   const KdTree& tree = cache.tree();

@@ -27,8 +27,8 @@ HeldToolErrors frame_and_tooltip_errors(const PointCloud& observed, const ToolGr
   HeldToolErrors errors;
   const Points& cloud = observed.points;
   try {
-    const ToolFrame frame = estimate_tool_frame(cloud, frame_config, observed.viewpoints, observed.views);
-    const Tooltip tip = find_tooltip(cloud, frame, tooltip_config, observed.views);
+    const auto [frame, tip] =
+        estimate_frame_and_tooltip(cloud, frame_config, tooltip_config, observed.viewpoints, observed.views);
     errors.right_handed = is_rotation(frame.axes, 1e-9);
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
@@ -136,8 +136,7 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
     // One tree and cache for every hypothesis's tooltip (find-tooltip's, with the pipeline's settings).
     const KdTree tree(model.points);
     const TooltipCache tooltips(model.points, tree, pipeline.tooltip, model.views);
-    for (const auto& h :
-         frame_hypotheses(model.points, pipeline.frame, model.viewpoints, fitted_frame_score(), model.views)) {
+    for (const auto& h : frame_hypotheses(tooltips, pipeline.frame, model.viewpoints)) {
       double error = std::numeric_limits<double>::infinity();
       bool backed = false;
       try {

@@ -28,10 +28,7 @@ void BM_FrameAndTooltip(benchmark::State& state) {
   ToolFrameConfig config;
   config.method = state.range(1) == 0 ? FrameMethod::rules : FrameMethod::search;
   const Points points = held_tool_10k(family);
-  for (auto _ : state) {
-    const ToolFrame frame = estimate_tool_frame(points, config);
-    benchmark::DoNotOptimize(find_tooltip(points, frame));
-  }
+  for (auto _ : state) benchmark::DoNotOptimize(estimate_frame_and_tooltip(points, config, TooltipConfig{}));
   state.SetLabel(to_string(family) + ", " + to_string(config.method) + ", " + std::to_string(points.size()) +
                  " points");
 }

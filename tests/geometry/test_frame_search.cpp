@@ -117,6 +117,26 @@ TEST(FrameSearch, HypothesesAreCandidateHandlesAndPlanesWithEitherSide) {
   EXPECT_GT(alternatives, 0) << "no handle had an alternative plane (at least its quarter turn)";
 }
 
+TEST(FrameSearch, TheWholeJobOnOneTreeIsTheTwoStepsApart) {
+  // estimate_frame_and_tooltip shares the kd-tree and held piece; the frame and tooltip are those of the
+  // two steps run apart, to the bit, with either method; a cache whose hand settings are not the frame's
+  // is refused (its held piece would not be the frame's).
+  const HeldToolCase held = make_held_tool(ToolFamily::hook, 4);
+  for (const FrameMethod method : {FrameMethod::search, FrameMethod::rules}) {
+    ToolFrameConfig config;
+    config.method = method;
+    const auto [frame, tip] = estimate_frame_and_tooltip(held.observed, config, TooltipConfig{});
+    const ToolFrame apart = estimate_tool_frame(held.observed, config);
+    EXPECT_EQ(frame.axes, apart.axes) << to_string(method);
+    EXPECT_EQ(frame.origin, apart.origin) << to_string(method);
+    EXPECT_EQ(tip.position, find_tooltip(held.observed, apart).position) << to_string(method);
+  }
+  const KdTree tree(held.observed);
+  TooltipConfig wider;
+  wider.hand_radius = 0.08;
+  EXPECT_THROW(estimate_tool_frame(TooltipCache(held.observed, tree, wider), ToolFrameConfig{}), std::invalid_argument);
+}
+
 TEST(FrameSearch, EachHypothesissTooltipIsFindTooltipsPosition) {
   // tooltip_position skips what find_tooltip measures around its tip, not the tip: the same position to
   // the bit, on every hypothesis (either side, every plane), and none where find_tooltip throws.

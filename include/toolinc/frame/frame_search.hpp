@@ -4,7 +4,8 @@
 // sweep's rival basins), each with either effector side. Each hypothesis has features with a physical
 // meaning, measured alike whatever the candidate; a choice model fitted on simulated sessions of the
 // generated families (fit-frame-score, configs/frame-score.json) turns them into the probability that it
-// is the right one among them (its tooltip within 10 mm of the truth), and the search keeps the most likely.
+// is the right one among them (its tooltip within 10 mm of the truth), and the search keeps the one whose
+// tooltip is likeliest.
 #pragma once
 
 #include <array>
@@ -63,5 +64,10 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& points, const ToolFr
                                               const Points& viewpoints = {},
                                               const FrameScoreModel& model = fitted_frame_score(),
                                               const std::vector<std::uint32_t>& views = {});
+// The same on a tooltip cache's points, views, kd-tree and held piece, its tooltips the hypotheses' (as
+// estimate_tool_frame on a cache).
+std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& tooltips, const ToolFrameConfig& config,
+                                              const Points& viewpoints = {},
+                                              const FrameScoreModel& model = fitted_frame_score());
 
 }  // namespace toolinc

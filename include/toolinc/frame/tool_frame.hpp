@@ -207,4 +207,11 @@ const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius
 ToolFrame estimate_tool_frame(const Points& points, const ToolFrameConfig& config = {}, const Points& viewpoints = {},
                               const std::vector<std::uint32_t>& views = {});
 
+class TooltipCache;
+// The same on the points, views, kd-tree and held piece of a tooltip cache (find-tooltip's whole job builds
+// them once for the frame and the tooltip); the search's hypotheses' tooltips are then the cache's. Its
+// hand-radius and piece-gap must be the config's (share_hand_settings): std::invalid_argument otherwise.
+ToolFrame estimate_tool_frame(const TooltipCache& tooltips, const ToolFrameConfig& config,
+                              const Points& viewpoints = {});
+
 }  // namespace toolinc

@@ -142,6 +142,17 @@ Tooltip find_tooltip(const Points& points, const KdTree& tree, const ToolFrame& 
                      const std::vector<std::uint32_t>& views = {});
 // The same with what the rule measures of the cloud kept from other frames of it, with the cache's config and views.
 Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame);
+
+// find-tooltip's whole job: the frame estimated from the cloud and its tooltip, on one kd-tree and held
+// piece (the search's hypotheses' tooltips by tooltip_config too). The hand settings are the frame's
+// (share_hand_settings); viewpoints and views as estimate_tool_frame and find_tooltip take them.
+struct FrameAndTooltip {
+  ToolFrame frame;
+  Tooltip tooltip;
+};
+FrameAndTooltip estimate_frame_and_tooltip(const Points& points, const ToolFrameConfig& frame_config,
+                                           TooltipConfig tooltip_config, const Points& viewpoints = {},
+                                           const std::vector<std::uint32_t>& views = {});
 // find_tooltip's position alone (nothing where it throws), without the noise, the tied points' spread and
 // the alternatives it measures around it: what the search needs of each hypothesis, at a fraction of the cost.
 std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame);
