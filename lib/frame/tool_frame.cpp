@@ -831,7 +831,7 @@ struct Prepared {
   PrincipalAxes principal;
   ToolFrame frame;
 };
-// held: held_piece of input with the config's hand-radius and piece-gap.
+// held_by_hand: held_piece of input with the config's hand-radius and piece-gap.
 Prepared prepare(const Points& input, HeldPiece held_by_hand, const ToolFrameConfig& config) {
   if (config.handle_hand_skip >= config.handle_fraction)
     throw std::invalid_argument("handle-hand-skip must be below handle-fraction: nothing would be left to fit");
@@ -1041,10 +1041,10 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& input, const ToolFra
                           model);
 }
 
-std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& tooltip_cache, const ToolFrameConfig& config,
+std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& cache, const ToolFrameConfig& config,
                                               const Points& viewpoints, const FrameScoreModel& model) {
-  check_hand_settings(tooltip_cache, config);
-  const Prepared p = prepare(tooltip_cache.points(), tooltip_cache.held(), config);
+  check_hand_settings(cache, config);
+  const Prepared p = prepare(cache.points(), cache.held(), config);
   const FreeSpace free_space(p.cloud, viewpoints);
   const FreeSpace* seen = viewpoints.empty() ? nullptr : &free_space;
   const Points held = held_part(p.cloud, config.held_share);
@@ -1076,7 +1076,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& tooltip_cache,
         // None: nothing dense on its effector side. A stick's tip and a blade's far end do not depend on the
         // side (the rule ignores the effector axis, and the plane is the same), so the other side's is the one's.
         h.tooltip = reversed && (h.frame.stick || h.frame.tip_at_far_end()) ? hypotheses.back().tooltip
-                                                                            : tooltip_position(tooltip_cache, h.frame);
+                                                                            : tooltip_position(cache, h.frame);
         hypotheses.push_back(std::move(h));
       }
   }
@@ -1106,14 +1106,14 @@ ToolFrame estimate_tool_frame(const Points& input, const ToolFrameConfig& config
   return estimate_tool_frame(TooltipCache(input, tree, hypotheses_tooltip_config(config), views), config, viewpoints);
 }
 
-ToolFrame estimate_tool_frame(const TooltipCache& tooltips, const ToolFrameConfig& config, const Points& viewpoints) {
-  check_hand_settings(tooltips, config);
+ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& config, const Points& viewpoints) {
+  check_hand_settings(cache, config);
   if (config.method == FrameMethod::search) {
-    const auto hypotheses = frame_hypotheses(tooltips, config, viewpoints, fitted_frame_score());
+    const auto hypotheses = frame_hypotheses(cache, config, viewpoints, fitted_frame_score());
     std::vector<double> scores;
     std::vector<std::optional<Vec3>> tooltips;
     for (const auto& h : hypotheses) scores.push_back(h.log_odds), tooltips.push_back(h.tooltip);
-    const double radius = TooltipConfig{}.ambiguity_distance;
+    const double radius = cache.config().ambiguity_distance;
     const std::size_t chosen = most_probable_tooltip(scores, tooltips, radius);
     // The chosen first, then by score.
     std::vector<std::size_t> order(hypotheses.size());
@@ -1146,7 +1146,7 @@ ToolFrame estimate_tool_frame(const TooltipCache& tooltips, const ToolFrameConfi
                                        best.side_reversed ? ", other side" : "", probability, needed));
     return frame;
   }
-  return rules_frame(tooltips.points(), tooltips.held(), config, viewpoints);
+  return rules_frame(cache.points(), cache.held(), config, viewpoints);
 }
 
 std::string to_string(FrameMethod method) { return method == FrameMethod::search ? "search" : "rules"; }

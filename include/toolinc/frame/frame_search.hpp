@@ -66,7 +66,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const Points& points, const ToolFr
                                               const std::vector<std::uint32_t>& views = {});
 // The same on a tooltip cache's points, views, kd-tree and held piece, its tooltips the hypotheses' (as
 // estimate_tool_frame on a cache).
-std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& tooltips, const ToolFrameConfig& config,
+std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& cache, const ToolFrameConfig& config,
                                               const Points& viewpoints = {},
                                               const FrameScoreModel& model = fitted_frame_score());
 

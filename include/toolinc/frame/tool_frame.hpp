@@ -211,7 +211,6 @@ class TooltipCache;
 // The same on the points, views, kd-tree and held piece of a tooltip cache (find-tooltip's whole job builds
 // them once for the frame and the tooltip); the search's hypotheses' tooltips are then the cache's. Its
 // hand-radius and piece-gap must be the config's (share_hand_settings): std::invalid_argument otherwise.
-ToolFrame estimate_tool_frame(const TooltipCache& tooltips, const ToolFrameConfig& config,
-                              const Points& viewpoints = {});
+ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& config, const Points& viewpoints = {});
 
 }  // namespace toolinc
