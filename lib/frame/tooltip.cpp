@@ -257,14 +257,10 @@ void check_seen_by_several(Tooltip& tip, const TooltipCache& cache) {
 
 TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config,
                            std::vector<std::uint32_t> views)
-    : TooltipCache(points, tree, config, held_piece(points, config.hand_radius, config.piece_gap), std::move(views)) {}
-
-TooltipCache::TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held,
-                           std::vector<std::uint32_t> views)
     : points_(points),
       tree_(tree),
       config_(config),
-      held_(std::move(held)),
+      held_(held_piece(points, config.hand_radius, config.piece_gap)),
       views_(std::move(views)),
       dense_(points.size(), -1),
       seen_(points.size(), -1) {

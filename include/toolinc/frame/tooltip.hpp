@@ -96,9 +96,6 @@ class TooltipCache {
   // views (empty, or one per point): which of the views merged into the cloud saw each point.
   TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config,
                std::vector<std::uint32_t> views = {});
-  // The same with the held piece already found (held_piece with the config's hand-radius and piece-gap).
-  TooltipCache(const Points& points, const KdTree& tree, const TooltipConfig& config, HeldPiece held,
-               std::vector<std::uint32_t> views = {});
 
   const Points& points() const { return points_; }
   const KdTree& tree() const { return tree_; }
