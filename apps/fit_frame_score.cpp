@@ -54,8 +54,11 @@ struct Choice {
 Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypotheses, double radius) {
   std::vector<double> scores;
   std::vector<std::optional<toolinc::Vec3>> tooltips;
-  for (const auto& h : hypotheses) scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip);
-  const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, radius);
+  std::vector<toolinc::Vec3> effector_axes;
+  for (const auto& h : hypotheses)
+    scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip),
+        effector_axes.push_back(h.effector_side);
+  const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, effector_axes, radius);
   return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, radius)};
 }
 

@@ -900,6 +900,11 @@ HandleFeatures handle_features(const AboutHandle& about, const Points& cloud, co
   return features;
 }
 
+// The mirror score of a perfect mirror seen through the stereo noise: matched images' distances of about
+// 1.2 mm (the noise's mean absolute value) per 10 mm of symmetry-tolerance, weighed by symmetry-match-weight
+// (0.25), are 0.03; a tenth of that is below any plane's residual, so a noiseless mirror's 0 is floored there.
+constexpr double kMirrorScoreFloor = 0.003;
+
 // A hypothesis's features, each in units of the parameter that gives it its physical scale and each
 // comparable between hypotheses (measured the same way whatever the candidate handle came from).
 std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points& cloud, const HandleFeatures& handle,
@@ -931,6 +936,9 @@ std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points&
       head_out > 0.0 ? head_x / head_out : 0.0,  // the head's side
       f.tip_at_far_end() ? 1.0 : 0.0,            // a blade or scoop continuing the handle: its tip its far end
       bar_along_x,  // a bar-like head (head-line-elongation) along X: cos^2 of their angle; 0 for other heads
+      // The mirror residual's order of magnitude: a plane the head truly mirrors across leaves the noise's
+      // residual, a wrong one several times that, whatever the residual's own scale
+      std::log(std::max(f.symmetry_score, kMirrorScoreFloor)),
   };
 }
 
@@ -968,7 +976,8 @@ const std::array<const char*, kFrameFeatures>& frame_feature_names() {
                                                              "head_curl_saturated",
                                                              "head_side",
                                                              "blade_or_scoop",
-                                                             "head_bar_along_effector"};
+                                                             "head_bar_along_effector",
+                                                             "mirror_score_log"};
   return names;
 }
 
@@ -994,8 +1003,12 @@ double tooltip_probability(const std::vector<double>& scores, const std::vector<
   return agreeing / total;
 }
 
+Vec3 effector_side(const ToolFrame& frame) { return frame.stick ? Vec3::Zero() : frame.effector_axis(); }
+
 std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
-                                  double radius) {
+                                  const std::vector<Vec3>& effector_axes, double radius) {
+  if (tooltips.size() != scores.size() || effector_axes.size() != scores.size())
+    throw std::invalid_argument("most_probable_tooltip: one tooltip and one effector axis per score");
   std::size_t centre = 0;
   double best = -1.0;
   for (std::size_t i = 0; i < scores.size(); ++i) {
@@ -1003,10 +1016,19 @@ std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::
     if (p > best || (p == best && scores[i] > scores[centre])) best = p, centre = i;
   }
   if (!tooltips[centre]) return centre;
-  // Of the hypotheses that agree on that tip, the likeliest: its frame is the one to give.
-  std::size_t chosen = centre;
+  std::vector<std::size_t> agreeing;
   for (std::size_t i = 0; i < scores.size(); ++i)
-    if (tooltips[i] && (*tooltips[i] - *tooltips[centre]).norm() <= radius && scores[i] > scores[chosen]) chosen = i;
+    if (tooltips[i] && (*tooltips[i] - *tooltips[centre]).norm() <= radius) agreeing.push_back(i);
+  // Of those, the side with the most probability, then its likeliest: its frame is the one to give. Each
+  // side's sum runs over the same hypotheses in the same order, so a side's members tie exactly.
+  std::size_t chosen = centre;
+  double chosen_side = -1.0;
+  for (const std::size_t i : agreeing) {
+    double side = 0.0;
+    for (const std::size_t j : agreeing)
+      if (effector_axes[j].dot(effector_axes[i]) >= 0.0) side += std::exp(scores[j] - scores[centre]);
+    if (side > chosen_side || (side == chosen_side && scores[i] > scores[chosen])) chosen_side = side, chosen = i;
+  }
   return chosen;
 }
 
@@ -1112,9 +1134,11 @@ ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& 
     const auto hypotheses = frame_hypotheses(cache, config, viewpoints, fitted_frame_score());
     std::vector<double> scores;
     std::vector<std::optional<Vec3>> tooltips;
-    for (const auto& h : hypotheses) scores.push_back(h.log_odds), tooltips.push_back(h.tooltip);
+    std::vector<Vec3> effector_axes;
+    for (const auto& h : hypotheses)
+      scores.push_back(h.log_odds), tooltips.push_back(h.tooltip), effector_axes.push_back(effector_side(h.frame));
     const double radius = cache.config().ambiguity_distance;
-    const std::size_t chosen = most_probable_tooltip(scores, tooltips, radius);
+    const std::size_t chosen = most_probable_tooltip(scores, tooltips, effector_axes, radius);
     // The chosen first, then by score.
     std::vector<std::size_t> order(hypotheses.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

@@ -175,11 +175,37 @@ TEST(FrameSearch, TheChoiceIsTheTipWithTheMostProbabilityThenItsLikeliestHypothe
   // it: the two's tip, and of them the likelier.
   const std::vector<double> scores{std::log(2.0), 0.0, 0.1};
   const std::vector<std::optional<Vec3>> tips{Vec3(0.2, 0, 0), Vec3(0.1, 0, 0), Vec3(0.105, 0, 0)};
-  EXPECT_EQ(most_probable_tooltip(scores, tips, 0.01), 2u);
+  const std::vector<Vec3> one_side(3, Vec3::UnitX());
+  EXPECT_EQ(most_probable_tooltip(scores, tips, one_side, 0.01), 2u);
   // Apart (a 1 mm radius), each stands alone and the likeliest wins.
-  EXPECT_EQ(most_probable_tooltip(scores, tips, 0.001), 0u);
+  EXPECT_EQ(most_probable_tooltip(scores, tips, one_side, 0.001), 0u);
   // A hypothesis without a tooltip is not chosen while another has one.
-  EXPECT_EQ(most_probable_tooltip({5.0, 0.0}, {std::nullopt, Vec3(0.1, 0, 0)}, 0.01), 1u);
+  EXPECT_EQ(most_probable_tooltip({5.0, 0.0}, {std::nullopt, Vec3(0.1, 0, 0)}, {Vec3::UnitX(), Vec3::UnitX()}, 0.01),
+            1u);
+  EXPECT_THROW(most_probable_tooltip(scores, tips, {Vec3::UnitX()}, 0.01), std::invalid_argument);
+}
+
+// Hypotheses on either side of a scoop's plane agree on its far end. The side is then the one with the most
+// probability among them: three hypotheses along +X (about different handles, their axes a few degrees
+// apart) outweigh the likeliest one, along -X.
+TEST(FrameSearch, AmongHypothesesAgreeingOnTheTipTheSideWithTheMostProbabilityIsChosen) {
+  const std::vector<double> scores{std::log(3.0), std::log(2.0), std::log(1.5), std::log(1.5), 0.0};
+  const std::vector<std::optional<Vec3>> tips{Vec3(0.2, 0, 0), Vec3(0.201, 0, 0), Vec3(0.2, 0.001, 0),
+                                              Vec3(0.2, 0, 0.001), Vec3(0.5, 0, 0)};
+  const std::vector<Vec3> axes{-Vec3::UnitX(), Vec3(1, 0.05, 0).normalized(), Vec3::UnitX(),
+                               Vec3(1, 0, -0.05).normalized(), -Vec3::UnitX()};
+  EXPECT_EQ(most_probable_tooltip(scores, tips, axes, 0.01), 1u);  // +X: 2 + 1.5 + 1.5 against 3; its likeliest
+  // With the -X side likelier than the others together, it stays.
+  const std::vector<double> bold{std::log(6.0), std::log(2.0), std::log(1.5), std::log(1.5), 0.0};
+  EXPECT_EQ(most_probable_tooltip(bold, tips, axes, 0.01), 0u);
+  // A stick has no side: it agrees with either, and among sticks alone the likeliest is chosen.
+  const std::vector<Vec3> sticks(5, Vec3::Zero());
+  EXPECT_EQ(most_probable_tooltip(scores, tips, sticks, 0.01), 0u);
+  ToolFrame stick;
+  stick.stick = true;
+  EXPECT_EQ(effector_side(stick), Vec3::Zero());
+  stick.stick = false;
+  EXPECT_EQ(effector_side(stick), stick.effector_axis());
 }
 
 TEST(FrameSearch, KeepsTheHypothesisWhoseTooltipIsLikeliest) {
@@ -189,8 +215,10 @@ TEST(FrameSearch, KeepsTheHypothesisWhoseTooltipIsLikeliest) {
   const auto hypotheses = frame_hypotheses(held.observed, config);
   std::vector<double> scores;
   std::vector<std::optional<Vec3>> tips;
-  for (const auto& h : hypotheses) scores.push_back(h.log_odds), tips.push_back(h.tooltip);
-  const std::size_t chosen = most_probable_tooltip(scores, tips, TooltipConfig{}.ambiguity_distance);
+  std::vector<Vec3> axes;
+  for (const auto& h : hypotheses)
+    scores.push_back(h.log_odds), tips.push_back(h.tooltip), axes.push_back(effector_side(h.frame));
+  const std::size_t chosen = most_probable_tooltip(scores, tips, axes, TooltipConfig{}.ambiguity_distance);
   const ToolFrame frame = estimate_tool_frame(held.observed, config);
   EXPECT_TRUE(frame.axes.isApprox(hypotheses[chosen].frame.axes));
   EXPECT_NEAR(frame.diagnostics.tooltip_probability,

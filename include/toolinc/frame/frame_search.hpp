@@ -17,7 +17,7 @@
 
 namespace toolinc {
 
-constexpr int kFrameFeatures = 12;
+constexpr int kFrameFeatures = 13;
 
 // The features' names, in order, as the weights file has them.
 const std::array<const char*, kFrameFeatures>& frame_feature_names();
@@ -50,12 +50,19 @@ const FrameScoreModel& fitted_frame_score();
 double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
                            std::size_t chosen, double radius);
 
+// The side a hypothesis puts the effector on, as most_probable_tooltip compares them: its effector axis,
+// or none (zero) for a stick, whose effector axis is arbitrary.
+Vec3 effector_side(const ToolFrame& frame);
+
 // The hypothesis to choose when what matters is a tooltip within `radius` of the truth (the Bayes choice
 // for that loss): the tip whose probability is highest (ties to the higher score, then to the earlier
-// one), and of the hypotheses within `radius` of it the likeliest, whose frame is then the best for that
-// tip. Several hypotheses that agree on a tip outweigh a likelier one alone with another.
+// one); of the hypotheses within `radius` of it, the effector side with the most probability (effector
+// sides, one per hypothesis, within 90 degrees of one another; none agrees with either: on either side
+// of a blade's or a scoop's plane the tip is its far end, so the tip does not tell the side, and the
+// side's own evidence is summed as the tip's is); and of those the likeliest, whose frame is then the best
+// for that tip. Several hypotheses that agree outweigh a likelier one alone.
 std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
-                                  double radius);
+                                  const std::vector<Vec3>& effector_axes, double radius);
 
 // Every hypothesis, scored by `model`, in a fixed order (candidate handles as listed above; about each the
 // rules' plane, then its alternatives; on each plane the rules' side, then the other). Throws MethodError on degenerate
