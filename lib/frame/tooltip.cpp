@@ -165,8 +165,33 @@ Vec3 rule_direction(const Vec3& point, const ToolFrame& frame, const TooltipConf
   return (config.effector_weight * frame.effector_axis() + (1.0 - config.effector_weight) * from_hand).normalized();
 }
 
-// How far apart edge_retreat measures the density along its line.
+// How far apart edge_retreat measures the density along its line, and how many steps back it goes.
 double retreat_step(const TooltipConfig& config) { return config.tip_edge_radius / 5.0; }
+int retreat_steps(const TooltipConfig& config) {
+  return static_cast<int>(std::round(std::max(0.0, config.fringe_depth) / retreat_step(config)));
+}
+
+// edge_retreat with the density at each step counted by count(centre): the points within tip-edge-radius.
+template <typename Count>
+double retreat_along(const Vec3& point, const Vec3& direction, const TooltipConfig& config, Count&& count) {
+  if (config.fringe_depth <= 0.0) return 0.0;
+  const double step = retreat_step(config);
+  const int steps = retreat_steps(config);
+  std::vector<std::size_t> along;
+  for (int k = 0; k <= steps; ++k) along.push_back(count(Vec3(point - k * step * direction)));
+  const std::size_t peak = *std::max_element(along.begin(), along.end());
+  for (int k = 0; k < steps; ++k)
+    if (2 * along[k] >= peak) return k * step;
+  return config.fringe_depth;
+}
+
+// The distance from q to the segment from a to b.
+double distance_to_segment(const Vec3& q, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((q - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (q - (a + t * ab)).norm();
+}
 
 // The point projected onto the frame's symmetry plane.
 Vec3 on_symmetry_plane(const Vec3& point, const ToolFrame& frame) {
@@ -230,10 +255,26 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
   Points near;
   for (const auto& q : points)
     if (const Vec3 projected = on_symmetry_plane(q, f); reach.contains(projected)) near.push_back(projected);
-  const KdTree tree(near);
+  // Each line's density counted among the points within tip-edge-radius of it (and a hair more, so that
+  // rounding keeps every point a count takes): for the few points about one line, cheaper than a kd-tree,
+  // and the same count, as the same squared distances are compared.
+  const double r2 = config.tip_edge_radius * config.tip_edge_radius;
+  const double line_reach = config.tip_edge_radius + 1e-9;
+  Points about_line;
   std::vector<Vec3> edges;
+  const auto count = [&](const Vec3& centre) {
+    return static_cast<std::size_t>(std::count_if(about_line.begin(), about_line.end(),
+                                                  [&](const Vec3& q) { return (q - centre).squaredNorm() <= r2; }));
+  };
   for (std::size_t i = 0; i < surface_points.size(); ++i) {
-    const double back = directions[i].isZero() ? 0.0 : edge_retreat(tree, on_plane[i], directions[i], config);
+    double back = 0.0;
+    if (!directions[i].isZero()) {
+      const Vec3 back_end = on_plane[i] - retreat_steps(config) * retreat_step(config) * directions[i];
+      about_line.clear();
+      for (const auto& q : near)
+        if (distance_to_segment(q, on_plane[i], back_end) <= line_reach) about_line.push_back(q);
+      back = retreat_along(on_plane[i], directions[i], config, count);
+    }
     if (retreats) retreats->push_back(back);
     edges.push_back(on_plane[i] - back * directions[i]);
   }
@@ -301,16 +342,8 @@ const std::vector<KdTree::Neighbor>& TooltipCache::smoothing_neighbors(std::uint
 }
 
 double edge_retreat(const KdTree& tree, const Vec3& point, const Vec3& direction, const TooltipConfig& config) {
-  if (config.fringe_depth <= 0.0) return 0.0;
-  const double step = retreat_step(config);
-  const int steps = static_cast<int>(std::round(config.fringe_depth / step));
-  const auto density = [&](int k) { return tree.count_within(point - k * step * direction, config.tip_edge_radius); };
-  std::vector<std::size_t> along;
-  for (int k = 0; k <= steps; ++k) along.push_back(density(k));
-  const std::size_t peak = *std::max_element(along.begin(), along.end());
-  for (int k = 0; k < steps; ++k)
-    if (2 * along[k] >= peak) return k * step;
-  return config.fringe_depth;
+  return retreat_along(point, direction, config,
+                       [&](const Vec3& centre) { return tree.count_within(centre, config.tip_edge_radius); });
 }
 
 Tooltip find_tooltip(const Points& points, const ToolFrame& frame, const TooltipConfig& config,
