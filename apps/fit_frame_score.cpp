@@ -54,11 +54,10 @@ struct Choice {
 Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypotheses, double radius) {
   std::vector<double> scores;
   std::vector<std::optional<toolinc::Vec3>> tooltips;
-  std::vector<toolinc::Vec3> effector_axes;
+  std::vector<toolinc::Vec3> sides;
   for (const auto& h : hypotheses)
-    scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip),
-        effector_axes.push_back(h.effector_side);
-  const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, effector_axes, radius);
+    scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip), sides.push_back(h.effector_side);
+  const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, sides, radius);
   return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, radius)};
 }
 

@@ -1006,9 +1006,9 @@ double tooltip_probability(const std::vector<double>& scores, const std::vector<
 Vec3 effector_side(const ToolFrame& frame) { return frame.stick ? Vec3::Zero() : frame.effector_axis(); }
 
 std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
-                                  const std::vector<Vec3>& effector_axes, double radius) {
-  if (tooltips.size() != scores.size() || effector_axes.size() != scores.size())
-    throw std::invalid_argument("most_probable_tooltip: one tooltip and one effector axis per score");
+                                  const std::vector<Vec3>& effector_sides, double radius) {
+  if (tooltips.size() != scores.size() || effector_sides.size() != scores.size())
+    throw std::invalid_argument("most_probable_tooltip: one tooltip and one effector side per score");
   std::size_t centre = 0;
   double best = -1.0;
   for (std::size_t i = 0; i < scores.size(); ++i) {
@@ -1026,7 +1026,7 @@ std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::
   for (const std::size_t i : agreeing) {
     double side = 0.0;
     for (const std::size_t j : agreeing)
-      if (effector_axes[j].dot(effector_axes[i]) >= 0.0) side += std::exp(scores[j] - scores[centre]);
+      if (effector_sides[j].dot(effector_sides[i]) >= 0.0) side += std::exp(scores[j] - scores[centre]);
     if (side > chosen_side || (side == chosen_side && scores[i] > scores[chosen])) chosen_side = side, chosen = i;
   }
   return chosen;
@@ -1134,11 +1134,11 @@ ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& 
     const auto hypotheses = frame_hypotheses(cache, config, viewpoints, fitted_frame_score());
     std::vector<double> scores;
     std::vector<std::optional<Vec3>> tooltips;
-    std::vector<Vec3> effector_axes;
+    std::vector<Vec3> sides;
     for (const auto& h : hypotheses)
-      scores.push_back(h.log_odds), tooltips.push_back(h.tooltip), effector_axes.push_back(effector_side(h.frame));
+      scores.push_back(h.log_odds), tooltips.push_back(h.tooltip), sides.push_back(effector_side(h.frame));
     const double radius = cache.config().ambiguity_distance;
-    const std::size_t chosen = most_probable_tooltip(scores, tooltips, effector_axes, radius);
+    const std::size_t chosen = most_probable_tooltip(scores, tooltips, sides, radius);
     // The chosen first, then by score.
     std::vector<std::size_t> order(hypotheses.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

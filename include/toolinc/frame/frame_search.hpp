@@ -62,7 +62,7 @@ Vec3 effector_side(const ToolFrame& frame);
 // side's own evidence is summed as the tip's is); and of those the likeliest, whose frame is then the best
 // for that tip. Several hypotheses that agree outweigh a likelier one alone.
 std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
-                                  const std::vector<Vec3>& effector_axes, double radius);
+                                  const std::vector<Vec3>& effector_sides, double radius);
 
 // Every hypothesis, scored by `model`, in a fixed order (candidate handles as listed above; about each the
 // rules' plane, then its alternatives; on each plane the rules' side, then the other). Throws MethodError on degenerate
