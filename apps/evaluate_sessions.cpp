@@ -42,7 +42,10 @@ int main(int argc, char** argv) {
   double tip_tolerance = 0.010;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
-  std::string rule, stereo = "elas", grasp = "recorded";  // add_tooltip_options sets rule's default
+  std::string rule, stereo = "elas", grasp = "recorded", reconstruction = "registered";  // add_tooltip_options
+                                                                                         // sets rule's default
+  double kinematic_mm = toolinc::SessionSimulatorConfig{}.kinematic_error_m * 1000.0;
+  double kinematic_deg = toolinc::SessionSimulatorConfig{}.kinematic_error_deg;
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all, unless --models)");
   cli.add_option("--models", model_inputs,
@@ -66,6 +69,17 @@ int main(int argc, char** argv) {
   cli.add_option("--grasp", grasp, "The sessions' grasps, as simulate-session --grasp")
       ->check(CLI::IsMember({"recorded", "any"}))
       ->capture_default_str();
+  cli.add_option("--reconstruction", reconstruction,
+                 "registered: merge-views as it runs; original: the views merged as the original exploreTool made "
+                 "the robot's reconstructions (at their recorded poses, no smear check) and kept as bare points")
+      ->check(CLI::IsMember({"registered", "original"}))
+      ->capture_default_str();
+  cli.add_option("--kinematic-error-mm", kinematic_mm, "As simulate-session --kinematic-error-mm")
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 100, "mm"}));
+  cli.add_option("--kinematic-error-deg", kinematic_deg, "As simulate-session --kinematic-error-deg")
+      ->capture_default_str()
+      ->check(toolinc::in_range({0, false, 90, "deg"}));
   cli.add_option("-j,--jobs", jobs, "Sessions evaluated in parallel (the results do not depend on it)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 64u));
@@ -75,6 +89,7 @@ int main(int argc, char** argv) {
   return command.run(argc, argv, [&] {
     // Disparity matched over windows is fattened at depth edges.
     if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
+    if (reconstruction == "original") pipeline = toolinc::as_original_reconstruction(pipeline);
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     toolinc::share_hand_settings(pipeline.frame, pipeline.tooltip);
     const toolinc::ExplorationGrasps drawn = toolinc::exploration_grasps_from_string(grasp);
@@ -117,6 +132,8 @@ int main(int argc, char** argv) {
                       : toolinc::model_session(models[c.model].cloud, models[c.model].path, models[c.model].symmetry,
                                                c.seed, drawn);
       session.stereo = toolinc::stereo_model_from_string(stereo);
+      session.kinematic_error_m = kinematic_mm / 1000.0;
+      session.kinematic_error_deg = kinematic_deg;
       cases[i].errors = toolinc::evaluate_simulated_session(session, pipeline);
     });
 

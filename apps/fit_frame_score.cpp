@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "elas", compare, hypotheses_csv;
+  std::vector<std::string> reconstructions{"registered"};
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
   cli.add_option("--first-seed", first_seed,
@@ -147,6 +148,10 @@ int main(int argc, char** argv) {
   cli.add_option("--stereo", stereo, "The sessions' stereo model, as simulate-session --stereo")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
+  cli.add_option("--reconstructions", reconstructions,
+                 "Each session fitted and calibrated on as each of these models (evaluate-sessions --reconstruction)")
+      ->check(CLI::IsMember({"registered", "original"}))
+      ->capture_default_str();
   cli.add_option("-j,--jobs", jobs, "Sessions simulated in parallel (the fit does not depend on it)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 64u));
@@ -182,15 +187,20 @@ int main(int argc, char** argv) {
     struct Case {
       toolinc::ToolFamily family;
       std::uint32_t seed;
+      const toolinc::PipelineConfig* pipeline;
     };
+    const toolinc::PipelineConfig original = toolinc::as_original_reconstruction(pipeline);
     const Rightness is_right{tip_tolerance, handle_tolerance};
     std::vector<Case> cases;
-    for (const auto family : families)
-      for (int g = 0; g < grasps; ++g) cases.push_back({family, first_seed + static_cast<std::uint32_t>(g)});
+    const auto add_cases = [&](std::uint32_t first, int count) {
+      for (const auto family : families)
+        for (int g = 0; g < count; ++g)
+          for (const auto& r : reconstructions)
+            cases.push_back({family, first + static_cast<std::uint32_t>(g), r == "original" ? &original : &pipeline});
+    };
+    add_cases(first_seed, grasps);
     const std::size_t fitted = cases.size();
-    for (const auto family : families)
-      for (int g = 0; g < calibration_grasps; ++g)
-        cases.push_back({family, calibration_first_seed + static_cast<std::uint32_t>(g)});
+    add_cases(calibration_first_seed, calibration_grasps);
     std::vector<Hypotheses> labelled(cases.size());
     toolinc::run_in_parallel(cases.size(), jobs, toolinc::Progress("labelling frame hypotheses"), [&](std::size_t i) {
       toolinc::SessionSimulatorConfig session = toolinc::family_session(cases[i].family, cases[i].seed);
@@ -200,7 +210,7 @@ int main(int argc, char** argv) {
       if (belly_behind && cases[i].family == toolinc::ToolFamily::shovel && cases[i].seed % 2 == 1)
         session.shape = toolinc::belly_behind(session.shape);
       session.stereo = toolinc::stereo_model_from_string(stereo);
-      labelled[i] = toolinc::labelled_frame_hypotheses(session, pipeline);
+      labelled[i] = toolinc::labelled_frame_hypotheses(session, *cases[i].pipeline);
     });
     if (!hypotheses_csv.empty()) {
       std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right,handle_deg,backed";
@@ -292,6 +302,7 @@ int main(int argc, char** argv) {
            {"first_seed", first_seed},
            {"grasps", grasps},
            {"stereo", stereo},
+           {"reconstructions", reconstructions},
            {"tip_tolerance_m", tip_tolerance},
            {"handle_tolerance_deg", handle_tolerance},
            {"belly_behind", belly_behind},

@@ -198,4 +198,12 @@ MergeResult merge_views(const std::vector<PointCloud>& input, const MergeConfig&
   return best;
 }
 
+MergeConfig original_merge() {
+  MergeConfig config;
+  config.icp.max_iterations = 0;
+  config.min_inlier_ratio = 0.0;
+  config.see_through_tolerance = 0.0;
+  return config;
+}
+
 }  // namespace toolinc

@@ -103,12 +103,19 @@ MergedSession simulate_and_merge(const SessionSimulatorConfig& config, const Pip
     return m;
   }
   for (const auto& view : m.merged.views) m.views_rejected += !view.accepted;
+  if (pipeline.bare_model) m.merged.model.views.clear(), m.merged.model.viewpoints.clear();
   m.relative = tool_ground_truth(m.canonical, tool_symmetry(config), tool_truth_tip(config),
                                  pose_on_merged_model(m.merged.model.points, m.canonical, config.hand_from_canonical));
   return m;
 }
 
 }  // namespace
+
+PipelineConfig as_original_reconstruction(PipelineConfig pipeline) {
+  pipeline.merge = original_merge();
+  pipeline.bare_model = true;
+  return pipeline;
+}
 
 SessionErrors evaluate_simulated_session(const SessionSimulatorConfig& config, const PipelineConfig& pipeline) {
   MergedSession m = simulate_and_merge(config, pipeline);

@@ -263,15 +263,16 @@ TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
   const std::string shipped = std::string(kSourceDir) + "/configs/frame-score.json";
   const Json file = read_json(shipped);
   const Json &on = file.at("fitted_on"), &calibrated = file.at("calibrated_on");
-  std::string families;
+  std::string families, reconstructions;
   for (const auto& f : on.at("families")) families += " " + f.get<std::string>();
+  for (const auto& r : on.at("reconstructions")) reconstructions += " " + r.get<std::string>();
   const auto dir = scratch_dir("fit-frame-score");
   const ToolRun run =
       run_tool("fit-frame-score",
                "-q -j 2 --families" + families + " --first-seed " + std::to_string(on.at("first_seed").get<int>()) +
-                   " --grasps " + std::to_string(on.at("grasps").get<int>()) + " --calibration-first-seed " +
-                   std::to_string(calibrated.at("first_seed").get<int>()) + " --calibration-grasps 1 --stereo " +
-                   on.at("stereo").get<std::string>() + " --tip-tolerance " +
+                   " --grasps " + std::to_string(on.at("grasps").get<int>()) + " --reconstructions" + reconstructions +
+                   " --calibration-first-seed " + std::to_string(calibrated.at("first_seed").get<int>()) +
+                   " --calibration-grasps 1 --stereo " + on.at("stereo").get<std::string>() + " --tip-tolerance " +
                    std::to_string(on.at("tip_tolerance_m").get<double>()) + " --handle-tolerance " +
                    std::to_string(on.at("handle_tolerance_deg").get<double>()) +
                    (on.at("belly_behind").get<bool>() ? " --belly-behind" : " --no-belly-behind") + " --compare " +

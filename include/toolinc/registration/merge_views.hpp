@@ -60,4 +60,10 @@ struct MergeResult {
 // has fewer than min_points points.
 MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
+// The merge of the original exploreTool, which made the robot's reconstructions, for judging the method on
+// clouds like them: its ICP (PCL's, from identity) stops on the first step that moves under 1 cm and 0.81
+// degrees, so a view stays about where its recorded hand pose put it (here: exactly), every view within its
+// 10 cm check is kept, and nothing removes smear.
+MergeConfig original_merge();
+
 }  // namespace toolinc

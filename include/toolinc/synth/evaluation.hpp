@@ -44,9 +44,16 @@ HeldToolErrors evaluate_held_tool(const Points& canonical, ToolSymmetry symmetry
 struct PipelineConfig {
   CropConfig crop;
   MergeConfig merge;
+  // The merged model as bare points, without the views that saw each point and their viewpoints: as the
+  // robot's reconstructions are (PLY of x, y, z and colour).
+  bool bare_model = false;
   ToolFrameConfig frame;
   TooltipConfig tooltip;
 };
+
+// The pipeline as the robot's reconstructions were made by the original exploreTool: its merge
+// (original_merge) and the model kept as bare points.
+PipelineConfig as_original_reconstruction(PipelineConfig pipeline);
 
 struct SessionErrors {
   int views_rejected = 0;       // by crop-cloud (too few points) or merge-views
