@@ -196,6 +196,18 @@ the frame and tooltip estimated on the merged cloud (`build/bin/evaluate-session
 What still fails:
 {worst_sessions('elas')}
 
+## Generated families, merged as the robot's reconstructions were
+
+The same sessions with the views merged as the original exploreTool made the robot's reconstructions: at
+their recorded poses, without registration or the smear check, kept as bare points
+(`build/bin/evaluate-sessions {command('original')}`; [simulation.md](simulation.md#the-robots-reconstructions-the-originals-merge-evaluate-sessions---reconstruction-original)).
+Their fringe comes half way to the robot's, and they are the generated exam nearest its clouds.
+
+{sessions_table('original')}
+
+What still fails:
+{worst_sessions('original')}
+
 ## Generated families, ideal stereo
 
 The same sessions with exact disparity (`build/bin/evaluate-sessions {command('ideal')}`): the method's

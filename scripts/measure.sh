@@ -55,6 +55,7 @@ sessions() {  # name, then evaluate-sessions arguments
 }
 
 sessions elas --grasps $grasps
+sessions original --reconstruction original --grasps $grasps
 sessions ideal --stereo ideal --grasps $grasps
 sessions ideal_any --stereo ideal --grasp any --first-seed 100 --grasps $any_grasps
 
