@@ -236,6 +236,36 @@ TEST(SessionPipeline, TheTrueModelIsAlignedOntoTheMergedModel) {
   EXPECT_GT(unmoved, 0.008);
 }
 
+TEST(SessionPipeline, EvaluateSessionsMergesAsTheOriginalDid) {
+  // --reconstruction original and the kinematic error: the library's session with that error, through the
+  // original's merge, the model as bare points; what differs from merge-views is tested in test_merge_views.
+  const auto dir = scratch_dir("evaluate-sessions-original");
+  const ToolRun run =
+      run_tool("evaluate-sessions",
+               "-q --stereo ideal --grasp any --families hook rake --grasps 2 --reconstruction original "
+               "--kinematic-error-mm 6 --kinematic-error-deg 3 -o " +
+                   (dir / "out.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json results = read_json((dir / "out.json").string());
+  ASSERT_EQ(results["sessions"].size(), 4u);
+  const PipelineConfig original = as_original_reconstruction(PipelineConfig{});
+  EXPECT_FALSE(PipelineConfig{}.bare_model);
+  EXPECT_TRUE(original.bare_model);
+  EXPECT_EQ(original.merge.icp.max_iterations, 0);
+  for (const auto& s : results["sessions"]) {
+    SessionSimulatorConfig session =
+        ideal_family_session(family_from_string(s["family"].get<std::string>()), s["seed"].get<std::uint32_t>());
+    session.kinematic_error_m = 0.006;
+    session.kinematic_error_deg = 3.0;
+    const SessionErrors e = evaluate_simulated_session(session, original);
+    EXPECT_EQ(s["failure"], e.tool.failure);
+    EXPECT_EQ(s["tooltip_error_m"].get<double>(), e.tool.tooltip_m);
+    EXPECT_EQ(s["model_median_m"].get<double>(), e.model_median_m);
+    // Registered by merge-views, the same views' model lies nearer the true surface.
+    EXPECT_LT(evaluate_simulated_session(session).model_median_m, e.model_median_m) << s["family"] << s["seed"];
+  }
+}
+
 TEST(SessionPipeline, EvaluateSessionsOnSgbmSessions) {
   // evaluate-sessions --stereo sgbm reports what the library measures on SGBM sessions with crop's
   // depth-edge filter, and differs from the ideal sessions' figures.
