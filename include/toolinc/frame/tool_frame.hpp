@@ -80,11 +80,9 @@ struct ToolFrameConfig {
   double symmetry_doubt_margin = 0.1;    // a plane of another basin (30 degrees or more from the chosen one)
                                          //    scoring within this of it is a rival: the mirror does not single
                                          //    out the chosen plane, and find-tooltip reports the rival's tip
-  double stick_width = 0.025;            // m: a tool whose effector side stays this close to the handle's
+  double stick_width = 0.02;             // m: a tool whose effector side stays this close to the handle's
                                          //    axis has no head (a stick, however bent): its effector axis is
-                                         //    arbitrary. The lab's sticks reach 14 mm from their axis, and a
-                                         //    reconstruction's fringe (fringe-depth) adds about 10 mm (its
-                                         //    median); heads stand out 26 mm (a flat shovel) to 13 cm.
+                                         //    arbitrary. Heads stand out 2.5 cm (a flat shovel) to 13 cm.
   double head_curl_min = 0.005;          // m: a head thinnest along the effector axis (blade, scoop) whose
                                          //    edges rise this much above its middle faces its concave side
                                          //    (about 3 sigma of the stereo noise)
