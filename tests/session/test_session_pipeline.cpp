@@ -262,7 +262,7 @@ TEST(SessionPipeline, EvaluateSessionsMergesAsTheOriginalDid) {
     EXPECT_EQ(s["model_median_m"].get<double>(), e.model_median_m);
     // The option reaches the merge: merge-views moves the views, so its model is another cloud. Which of
     // the two lies nearer the true surface on one session is not a property (ICP may settle a view a
-    // millimetre worse than the hand put it); on the families it is measured in docs/accuracy.md.
+    // millimetre worse than the hand put it); over many sessions it is measured in docs/simulation.md.
     EXPECT_NE(evaluate_simulated_session(session).model_median_m, e.model_median_m) << s["seed"];
   }
 }
