@@ -53,6 +53,10 @@ const std::vector<Parameter<ToolFrameConfig>>& tool_frame_parameters() {
       {"stick-width", "m",
        "A tool whose effector side stays this close to its axis has no head: a stick, its tip its far end",
        &F::stick_width, 0, kClosed, kMaxLength},
+      {"clean-stick-width", "m",
+       "A stick whose effector side stands out more than this (but less than stick-width) may be fringed or bent: "
+       "doubtful",
+       &F::clean_stick_width, 0, kClosed, kMaxLength},
       {"symmetry-step-deg", "deg", "Coarse sweep step of the symmetry plane", &F::symmetry_step_deg, 0.5, kClosed, 45},
       {"symmetry-tolerance", "m", "Mirror distance counted as fully asymmetric", &F::symmetry_tolerance, kMinLength,
        kClosed, kMaxLength},

@@ -636,6 +636,19 @@ AboutHandle::AboutHandle(const Points& cloud, const PrincipalAxes& principal, co
   across_handle_score = scorer.score(y_axis, principal.centroid);
 }
 
+// A stick standing out beyond a clean stick's width: a straight stick whose far end a view merged off
+// fringes to one side, or a bent stick, whose far end lies there; the two look alike.
+void check_stick(ToolFrame& frame, const ToolFrameConfig& config) {
+  if (!frame.stick) return;
+  const double allowance = config.stick_width - config.clean_stick_width;
+  const double beyond = frame.diagnostics.head_extent - config.clean_stick_width;
+  if (beyond > 0.0)
+    frame.confidence.check(allowance > 0.0 ? -beyond / allowance : -1.0,
+                           fmt::format("a stick whose far end stands out {:.0f} mm from its axis, beyond a clean "
+                                       "stick's {:.0f} mm: fringed or bent, the tip may lie off its middle",
+                                       1000 * frame.diagnostics.head_extent, 1000 * config.clean_stick_width));
+}
+
 // The grasp's doubts, whatever the plane and side: a handle whose axis does not pass by the hand is not
 // the one it holds, and one thicker than the hand closes on is not held. The search's probabilities are
 // relative to its other hypotheses and cannot see that none is a grasp.
@@ -811,6 +824,7 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
   // may have its side reversed (a tool whose sides reach alike within salience-min is symmetric: either
   // side is right).
   check_grasp(frame, config);
+  check_stick(frame, config);
   const double reach_difference = frame.diagnostics.effector_reach_positive - frame.diagnostics.effector_reach_negative;
   if (!frame.stick && !curled && !frame.diagnostics.salient_effector &&
       std::abs(reach_difference) >= config.salience_min)
@@ -858,13 +872,15 @@ Prepared prepare(const Points& input, HeldPiece held_by_hand, const ToolFrameCon
 
 // A frame as one hypothesis of the search: one plane and one side. The rules' tied and rival planes and
 // their doubt of the side are other hypotheses there, weighed by the search, not alternatives of this one
-// (nor does find-tooltip spend time on them); of its doubts only the grasp's stay, the search adds its own.
+// (nor does find-tooltip spend time on them); of its doubts only the grasp's and the stick's stay, the search adds its
+// own.
 ToolFrame as_hypothesis(ToolFrame frame, const ToolFrameConfig& config) {
   frame.tied_planes = {frame.diagnostics.symmetry_candidates.back()};
   frame.rival_planes.clear();
   frame.effector_side_clear = true;
   frame.confidence = Confidence{};
   check_grasp(frame, config);
+  check_stick(frame, config);
   return frame;
 }
 

@@ -20,6 +20,7 @@
 #include "toolinc/synth/evaluation.hpp"
 
 using namespace toolinc;
+using toolinc::testing::HeldToolCase;
 using toolinc::testing::make_held_tool;
 
 namespace {
@@ -158,6 +159,23 @@ TEST(ToolFrameAccuracy, ScoopsFaceTheirConcaveSideWhereverTheirBellyReaches) {
     }
 }
 
+// Grasp g of the generated sticks from `first_seed`, its model reshaped by reshape(points, far_y) (far_y:
+// its far end's, negative) and seen in the hand with the stereo's noise.
+struct ReshapedStick {
+  HeldToolCase held;
+  Points shape, observed;
+};
+template <class Reshape>
+ReshapedStick reshaped_stick(std::uint32_t first_seed, int g, Reshape reshape) {
+  ReshapedStick stick{make_held_tool(ToolFamily::stick, first_seed + static_cast<std::uint32_t>(g)), {}, {}};
+  double far_y = 0.0;
+  for (const auto& p : stick.held.model.points) far_y = std::min(far_y, p.y());
+  stick.shape = reshape(stick.held.model.points, far_y);
+  Rng noise(static_cast<std::uint32_t>(g));
+  stick.observed = observe_in_hand(stick.shape, stick.held.grasp, 0.06, 0.0015, noise);
+  return stick;
+}
+
 // A bent stick has no head: its effector axis is arbitrary, so a bump along its shaft must not be
 // taken for the tip. The generated stick bowed sideways by up to 6 mm (a sine arch, straight at both
 // ends): its handle along its chord, its tip at its far end (any turn about the handle counts, as for a
@@ -168,16 +186,14 @@ TEST(ToolFrameAccuracy, BentSticksTakeTheirFarEnd) {
     int sticks = 0, within_10mm = 0, handle_within_3deg = 0;
     for (int g = 0; g < kGraspsPerFamily; ++g) {
       SCOPED_TRACE(to_string(method) + ", grasp " + std::to_string(g));
-      auto held = make_held_tool(ToolFamily::stick, 4000u + static_cast<std::uint32_t>(g));
-      double far_y = 0.0;
-      for (const auto& p : held.model.points) far_y = std::min(far_y, p.y());
-      Points bent = held.model.points;
-      for (auto& p : bent) p.x() += 0.006 * std::sin(M_PI * p.y() / far_y);
-      Rng noise(static_cast<std::uint32_t>(g));
-      const Points observed = observe_in_hand(bent, held.grasp, 0.06, 0.0015, noise);
-      const ToolGroundTruth truth = tool_ground_truth(bent, ToolSymmetry::axial, TruthTip::weighted, held.grasp);
-      const ToolFrame frame = estimate_tool_frame(observed, with_method(method));
-      const Tooltip tip = find_tooltip(observed, frame);
+      const ReshapedStick bent = reshaped_stick(4000u, g, [](Points points, double far_y) {
+        for (auto& p : points) p.x() += 0.006 * std::sin(M_PI * p.y() / far_y);
+        return points;
+      });
+      const ToolGroundTruth truth =
+          tool_ground_truth(bent.shape, ToolSymmetry::axial, TruthTip::weighted, bent.held.grasp);
+      const ToolFrame frame = estimate_tool_frame(bent.observed, with_method(method));
+      const Tooltip tip = find_tooltip(bent.observed, frame);
       sticks += frame.stick;
       within_10mm += tooltip_error(truth, tip.position) <= 0.010;
       handle_within_3deg += handle_axis_error_deg(truth, frame.handle_axis()) <= 3.0;
@@ -187,6 +203,43 @@ TEST(ToolFrameAccuracy, BentSticksTakeTheirFarEnd) {
     if (method == FrameMethod::rules) EXPECT_EQ(sticks, kGraspsPerFamily);
     EXPECT_GE(within_10mm, static_cast<int>(0.95 * kGraspsPerFamily)) << to_string(method);
     EXPECT_GE(handle_within_3deg, static_cast<int>(0.95 * kGraspsPerFamily)) << to_string(method);
+  }
+}
+
+// A reconstruction leaves a fringe beyond a surface's edge: a view merged a few degrees off its true pose
+// adds a second far end beside the stick's own (the robot's reconstructions reach a median 10.5 mm beyond
+// the true tip, 17 mm at the 90th percentile). The generated stick with its far quarter seen again 12 mm
+// to one side at its end (turned about the hand) is still a stick, whose tip is its far end (any turn
+// about the handle counts). At a stick-width of 2 cm the search took 11 of 24 for heads, 6 tips beyond
+// 10 mm. A stick standing out beyond a clean stick's width may as well be bent: never confident.
+TEST(ToolFrameAccuracy, SmearedSticksTakeTheirFarEnd) {
+  const ToolFrameConfig defaults;
+  for (const FrameMethod method : kMethods) {
+    int sticks = 0, within_10mm = 0, fringed = 0;
+    for (int g = 0; g < kGraspsPerFamily; ++g) {
+      SCOPED_TRACE(to_string(method) + ", grasp " + std::to_string(g));
+      const ReshapedStick smeared = reshaped_stick(4100u, g, [](const Points& points, double far_y) {
+        const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.012 / -far_y, Vec3::UnitZ()).toRotationMatrix();
+        Points out = points;
+        for (const auto& p : points)
+          if (p.y() < 0.75 * far_y) out.push_back(turn * p);
+        return out;
+      });
+      const ToolFrame frame = estimate_tool_frame(smeared.observed, with_method(method));
+      const Tooltip tip = find_tooltip(smeared.observed, frame);
+      sticks += frame.stick;
+      within_10mm += tooltip_error(smeared.held.truth, tip.position) <= 0.010;
+      if (frame.stick && frame.diagnostics.head_extent > defaults.clean_stick_width) {
+        ++fringed;
+        EXPECT_FALSE(tip.confidence.confident) << "stands out " << frame.diagnostics.head_extent << " m";
+      }
+    }
+    std::printf(
+        "%s, smeared sticks: %d of %d taken for sticks (%d standing out beyond a clean stick's width), %d "
+        "tooltips within 10 mm\n",
+        to_string(method).c_str(), sticks, kGraspsPerFamily, fringed, within_10mm);
+    if (method == FrameMethod::rules) EXPECT_GE(sticks, static_cast<int>(0.95 * kGraspsPerFamily));
+    EXPECT_GE(within_10mm, static_cast<int>(0.95 * kGraspsPerFamily)) << to_string(method);
   }
 }
 

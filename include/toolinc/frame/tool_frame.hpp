@@ -80,9 +80,14 @@ struct ToolFrameConfig {
   double symmetry_doubt_margin = 0.1;    // a plane of another basin (30 degrees or more from the chosen one)
                                          //    scoring within this of it is a rival: the mirror does not single
                                          //    out the chosen plane, and find-tooltip reports the rival's tip
-  double stick_width = 0.02;             // m: a tool whose effector side stays this close to the handle's
+  double stick_width = 0.025;            // m: a tool whose effector side stays this close to the handle's
                                          //    axis has no head (a stick, however bent): its effector axis is
-                                         //    arbitrary. Heads stand out 2.5 cm (a flat shovel) to 13 cm.
+                                         //    arbitrary. Heads stand out 2.6 cm (a flat shovel) to 13 cm; a
+                                         //    view merged a few degrees off fringes a stick's far end to one
+                                         //    side, 5-10 mm beyond a clean stick's
+  double clean_stick_width = 0.02;       // m: a clean stick's effector side stays this close (the lab's sticks
+                                         //    14 mm, the CAD models' up to 19 mm); a stick standing out more is
+                                         //    a fringed straight stick or a bent one, alike there: doubtful
   double head_curl_min = 0.005;          // m: a head thinnest along the effector axis (blade, scoop) whose
                                          //    edges rise this much above its middle faces its concave side
                                          //    (about 3 sigma of the stereo noise)
