@@ -2,6 +2,8 @@
 // use (nanoflann, PCL, Open3D), in one process, on the same clouds, on one core. Per row: the median time
 // of repeated runs, its ratio to the fastest peer, and what the block produced (answers, points kept,
 // final error), so that times are compared at equal results. A peer that is not installed is left out.
+// Where no peer does a whole job (align-pose, merge-views), the composition of its blocks a researcher
+// would make is the baseline, and what each produced is measured against the truth.
 //
 //   build/bench/bench_peers [SECONDS]   (each block repeated for about SECONDS, 0.5 by default; the peers'
 //                                        OpenMP is held to one thread by the program itself)
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "toolinc/ann/kdtree.hpp"
+#include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/random.hpp"
@@ -36,6 +39,8 @@
 #include <nanoflann.hpp>
 #endif
 #ifdef TOOLINC_WITH_PCL
+#include <pcl/common/io.h>
+#include <pcl/features/fpfh.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/filters/voxel_grid.h>
@@ -43,14 +48,18 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/icp.h>
+#include <pcl/registration/sample_consensus_prerejective.h>
 
 #include "pcl_cloud.hpp"
 #endif
 #ifdef TOOLINC_WITH_OPEN3D
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/CorrespondenceChecker.h>
+#include <open3d/pipelines/registration/Feature.h>
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/pipelines/registration/TransformationEstimation.h>
+#include <open3d/utility/Random.h>
 #endif
 #ifdef _OPENMP
 #include <omp.h>
@@ -100,6 +109,29 @@ void print_block(const std::string& block, const std::vector<Row>& rows) {
     std::printf("  %-10s %9.3f ms  x%-5s  %s\n", row.library.c_str(), row.ms, ratio.c_str(), row.result.c_str());
   }
 }
+
+#ifdef TOOLINC_WITH_PCL
+// A PCL cloud with PCL's normals: from the k nearest points, or from those within `radius` when positive.
+pcl::PointCloud<pcl::PointNormal>::Ptr pcl_with_normals(const pcl::PointCloud<pcl::PointXYZ>::Ptr& xyz, int k,
+                                                        double radius = 0.0) {
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
+  estimation.setInputCloud(xyz);
+  if (radius > 0.0)
+    estimation.setRadiusSearch(radius);
+  else
+    estimation.setKSearch(k);
+  pcl::PointCloud<pcl::Normal> normals;
+  estimation.compute(normals);
+  pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
+  for (std::size_t i = 0; i < xyz->size(); ++i) {
+    pcl::PointNormal p;
+    p.getVector3fMap() = (*xyz)[i].getVector3fMap();
+    p.getNormalVector3fMap() = normals[i].getNormalVector3fMap();
+    cloud->push_back(p);
+  }
+  return cloud;
+}
+#endif
 
 #ifdef TOOLINC_WITH_NANOFLANN
 struct NanoCloud {
@@ -332,21 +364,7 @@ void icp(const Points& model, const Points& view, const Eigen::Matrix4d& truth, 
   point_to_point.push_back({"toolinc", point_to_plane.back().ms, "point-to-plane: " + point_to_plane.back().result});
 #ifdef TOOLINC_WITH_PCL
   {
-    const auto with_normals = [](const Points& points, const pcl::PointCloud<pcl::Normal>* normals) {
-      pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
-      for (std::size_t i = 0; i < points.size(); ++i) {
-        pcl::PointNormal p;
-        p.x = static_cast<float>(points[i].x());
-        p.y = static_cast<float>(points[i].y());
-        p.z = static_cast<float>(points[i].z());
-        p.normal_x = normals ? (*normals)[i].normal_x : 0.0f;
-        p.normal_y = normals ? (*normals)[i].normal_y : 0.0f;
-        p.normal_z = normals ? (*normals)[i].normal_z : 0.0f;
-        cloud->push_back(p);
-      }
-      return cloud;
-    };
-    const auto source = with_normals(view, nullptr);
+    const auto source = pcl_with_normals(to_pcl(view), kNeighbours);
     // Run to convergence as toolinc does: stopped by 50 iterations or a negligible step.
     const auto run = [&](auto& solver, const auto& source_cloud, const auto& target_cloud) {
       solver.setInputSource(source_cloud);
@@ -360,14 +378,8 @@ void icp(const Points& model, const Points& view, const Eigen::Matrix4d& truth, 
       estimate = solver.getFinalTransformation().template cast<double>();
     };
     point_to_plane.push_back({"PCL", median_ms([&] {
-                                const auto target_points = to_pcl(model);
-                                pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> normal_estimation;
-                                normal_estimation.setInputCloud(target_points);
-                                normal_estimation.setKSearch(kNeighbours);
-                                pcl::PointCloud<pcl::Normal> normals;
-                                normal_estimation.compute(normals);
                                 pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> solver;
-                                run(solver, source, with_normals(model, &normals));
+                                run(solver, source, pcl_with_normals(to_pcl(model), kNeighbours));
                               }),
                               ""});
     point_to_plane.back().result = error_text(estimate);
@@ -408,6 +420,239 @@ void icp(const Points& model, const Points& view, const Eigen::Matrix4d& truth, 
       " (" + std::to_string(view.size()) + "-point view onto a " + std::to_string(model.size()) + "-point model)";
   print_block("ICP point-to-plane, target preparation included" + of, point_to_plane);
   print_block("ICP point-to-point" + of, point_to_point);
+}
+
+// The whole align-pose: a partial view of a held tool onto its model from no initial guess, on the same
+// random grasps as bench_align_pose's summary. No peer does the whole job, so the baseline is the
+// composition each library's tutorials give for it: features (FPFH on a voxel grid), a RANSAC over
+// feature matches (Open3D's RegistrationRANSACBasedOnFeatureMatching, PCL's SampleConsensusPrerejective),
+// then point-to-plane ICP. Per library: median and 90th percentile time (model preparation included), and
+// the cases within 3 deg, 5 mm and a tooltip within 10 mm of the truth (modulo the tool's symmetry).
+constexpr double kFeatureVoxel = 0.005;  // m: the tools' features' grid (a tenth of a head's width)
+void whole_align_pose(int per_family) {
+  struct Outcome {
+    std::vector<double> ms;
+    int right = 0;
+  };
+  std::vector<std::pair<std::string, Outcome>> rows;
+  const auto run = [&](const std::string& library,
+                       const std::function<Eigen::Matrix4d(const PartialViewCase&)>& align) {
+    Outcome outcome;
+    for (const ToolFamily family : all_families())
+      for (int seed = 0; seed < per_family; ++seed) {
+        const PartialViewCase c = make_partial_view_case(family, static_cast<std::uint32_t>(seed));
+        Eigen::Matrix4d hand_from_model = Eigen::Matrix4d::Identity();
+        const auto start = std::chrono::steady_clock::now();
+        hand_from_model = align(c);
+        outcome.ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        outcome.right += pose_errors(c, hand_from_model).within(3.0, 0.005, 0.010);
+      }
+    rows.emplace_back(library, std::move(outcome));
+  };
+  run("toolinc",
+      [](const PartialViewCase& c) { return align_pose(PoseModel(c.model.points), c.view).best.hand_from_model; });
+#ifdef TOOLINC_WITH_OPEN3D
+  {
+    namespace reg = open3d::pipelines::registration;
+    open3d::utility::random::Seed(1);
+    const auto prepared = [](const Points& points) {
+      auto cloud = to_open3d(points).VoxelDownSample(kFeatureVoxel);
+      cloud->EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(2 * kFeatureVoxel, 30));
+      auto features =
+          reg::ComputeFPFHFeature(*cloud, open3d::geometry::KDTreeSearchParamHybrid(5 * kFeatureVoxel, 100));
+      return std::make_pair(cloud, features);
+    };
+    run("Open3D", [&](const PartialViewCase& c) {
+      const auto [view, view_features] = prepared(c.view);
+      const auto [model, model_features] = prepared(c.model.points);
+      const reg::CorrespondenceCheckerBasedOnEdgeLength edges(0.9);
+      const reg::CorrespondenceCheckerBasedOnDistance distance(1.5 * kFeatureVoxel);
+      const auto coarse = reg::RegistrationRANSACBasedOnFeatureMatching(
+          *view, *model, *view_features, *model_features, false, 1.5 * kFeatureVoxel,
+          reg::TransformationEstimationPointToPoint(false), 3, {edges, distance},
+          reg::RANSACConvergenceCriteria(100000, 0.999));
+      const auto fine = reg::RegistrationICP(*view, *model, kCorrespondence, coarse.transformation_,
+                                             reg::TransformationEstimationPointToPlane(),
+                                             reg::ICPConvergenceCriteria(1e-8, 1e-8, 50));
+      return Eigen::Matrix4d(fine.transformation_.inverse());  // model_from_view -> hand_from_model
+    });
+  }
+#endif
+#ifdef TOOLINC_WITH_PCL
+  {
+    using Cloud = pcl::PointCloud<pcl::PointNormal>;
+    using Features = pcl::PointCloud<pcl::FPFHSignature33>;
+    const auto prepared = [](const Points& points) {
+      pcl::VoxelGrid<pcl::PointXYZ> grid;
+      grid.setInputCloud(to_pcl(points));
+      const float leaf = static_cast<float>(kFeatureVoxel);
+      grid.setLeafSize(leaf, leaf, leaf);
+      pcl::PointCloud<pcl::PointXYZ>::Ptr xyz(new pcl::PointCloud<pcl::PointXYZ>);
+      grid.filter(*xyz);
+      const auto cloud = pcl_with_normals(xyz, 0, 2 * kFeatureVoxel);
+      pcl::FPFHEstimation<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> fpfh;
+      fpfh.setInputCloud(cloud);
+      fpfh.setInputNormals(cloud);
+      fpfh.setRadiusSearch(5 * kFeatureVoxel);
+      Features::Ptr features(new Features);
+      fpfh.compute(*features);
+      return std::make_pair(cloud, features);
+    };
+    run("PCL", [&](const PartialViewCase& c) {
+      const auto [view, view_features] = prepared(c.view);
+      const auto [model, model_features] = prepared(c.model.points);
+      pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> coarse;
+      coarse.setInputSource(view);
+      coarse.setSourceFeatures(view_features);
+      coarse.setInputTarget(model);
+      coarse.setTargetFeatures(model_features);
+      coarse.setMaximumIterations(50000);
+      coarse.setNumberOfSamples(3);
+      coarse.setCorrespondenceRandomness(5);
+      coarse.setSimilarityThreshold(0.9f);
+      coarse.setMaxCorrespondenceDistance(static_cast<float>(1.5 * kFeatureVoxel));
+      coarse.setInlierFraction(0.25f);
+      Cloud aligned;
+      coarse.align(aligned);
+      pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> fine;
+      fine.setInputSource(view);
+      fine.setInputTarget(model);
+      fine.setMaxCorrespondenceDistance(kCorrespondence);
+      fine.setMaximumIterations(50);
+      fine.setTransformationEpsilon(1e-10);
+      fine.align(aligned, coarse.getFinalTransformation());
+      return Eigen::Matrix4d(fine.getFinalTransformation().cast<double>().inverse());
+    });
+  }
+#endif
+  double fastest_peer = 0.0;
+  for (auto& [library, outcome] : rows) {
+    std::sort(outcome.ms.begin(), outcome.ms.end());
+    if (library != "toolinc") {
+      const double median = outcome.ms[outcome.ms.size() / 2];
+      fastest_peer = fastest_peer == 0.0 ? median : std::min(fastest_peer, median);
+    }
+  }
+  std::printf(
+      "\nwhole align-pose from no initial guess (%d random grasps of the 8 families; peers: FPFH, RANSAC, "
+      "point-to-plane ICP)\n",
+      8 * per_family);
+  for (const auto& [library, o] : rows) {
+    const double median = o.ms[o.ms.size() / 2];
+    const std::string ratio = fastest_peer > 0 ? std::to_string(median / fastest_peer).substr(0, 4) : "-";
+    std::printf("  %-10s %9.3f ms  x%-5s  90th percentile %.0f ms; within 3 deg, 5 mm, tooltip 10 mm: %d of %zu\n",
+                library.c_str(), median, ratio.c_str(), o.ms[o.ms.size() * 9 / 10], o.right, o.ms.size());
+  }
+}
+
+// A simulated session of the robot's stereo (a family's tool, one recorded grasp): its views cropped, in
+// the hand frame at their recorded poses, and the tool's true surface there.
+struct SessionViews {
+  std::vector<PointCloud> views;
+  Points truth;
+};
+SessionViews session_views(ToolFamily family, std::uint32_t seed) {
+  const SessionSimulatorConfig config = family_session(family, seed);
+  const SimulatedSession session = simulate_session(config);
+  SessionViews out;
+  for (std::size_t v = 0; v < session.views.size(); ++v) {
+    try {
+      out.views.push_back(
+          crop_view(session.info, session.info.views[v], session.views[v], matched_stereo_crop()).cloud);
+    } catch (const MethodError&) {
+    }
+  }
+  out.truth = transform_points(generate_tool(config.shape, 1).points, config.hand_from_canonical);
+  return out;
+}
+
+// The whole merge-views: five cropped views into one model. No peer does the whole job, so the baseline
+// is the composition a researcher would make of the peer's blocks: each view registered onto the first by
+// point-to-plane ICP from its recorded pose, the views concatenated, resampled on merge-views' 2 mm grid
+// and cleaned by the statistical outlier filter. Per library: median time over the sessions, and the
+// merged model's median distance from the true surface (the median over the sessions) and its share of
+// points beyond 5 mm of it.
+constexpr double kMergeVoxel = 0.002;  // m: merge-views' output grid
+void whole_merge_views(int per_family) {
+  std::vector<SessionViews> sessions;
+  for (const ToolFamily family : all_families())
+    for (int seed = 0; seed < per_family; ++seed) sessions.push_back(session_views(family, 100u + seed));
+  std::vector<Row> rows;
+  const auto run = [&](const std::string& library, const std::function<Points(const std::vector<PointCloud>&)>& merge) {
+    std::vector<double> ms, median, beyond;
+    for (const auto& s : sessions) {
+      Points model;
+      ms.push_back(median_ms([&] { model = merge(s.views); }));
+      const DistanceProfile profile = distance_profile(model, s.truth);
+      median.push_back(1000 * profile.median_m), beyond.push_back(100 * profile.beyond);
+    }
+    const auto middle = [](std::vector<double> v) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    char text[96];
+    std::snprintf(text, sizeof text, "from the true surface: median %.2f mm, %.1f %% beyond 5 mm", middle(median),
+                  middle(beyond));
+    rows.push_back({library, middle(ms), text});
+  };
+  run("toolinc", [](const std::vector<PointCloud>& views) { return merge_views(views).model.points; });
+#ifdef TOOLINC_WITH_OPEN3D
+  run("Open3D", [](const std::vector<PointCloud>& views) {
+    namespace reg = open3d::pipelines::registration;
+    auto reference = to_open3d(views.front().points);
+    reference.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(kNeighbours));
+    open3d::geometry::PointCloud merged = reference;
+    for (std::size_t v = 1; v < views.size(); ++v) {
+      auto view = to_open3d(views[v].points);
+      view.Transform(reg::RegistrationICP(view, reference, kCorrespondence, Eigen::Matrix4d::Identity(),
+                                          reg::TransformationEstimationPointToPlane(),
+                                          reg::ICPConvergenceCriteria(1e-8, 1e-8, 50))
+                         .transformation_);
+      merged += view;
+    }
+    const auto resampled = merged.VoxelDownSample(kMergeVoxel);
+    return std::get<0>(resampled->RemoveStatisticalOutliers(kNeighbours + 1, kOutlierStd))->points_;
+  });
+#endif
+#ifdef TOOLINC_WITH_PCL
+  run("PCL", [](const std::vector<PointCloud>& views) {
+    const auto reference = pcl_with_normals(to_pcl(views.front().points), kNeighbours);
+    pcl::PointCloud<pcl::PointXYZ>::Ptr merged(new pcl::PointCloud<pcl::PointXYZ>);
+    pcl::copyPointCloud(*reference, *merged);
+    for (std::size_t v = 1; v < views.size(); ++v) {
+      pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
+      icp.setInputSource(pcl_with_normals(to_pcl(views[v].points), kNeighbours));
+      icp.setInputTarget(reference);
+      icp.setMaxCorrespondenceDistance(kCorrespondence);
+      icp.setMaximumIterations(50);
+      icp.setTransformationEpsilon(1e-10);
+      pcl::PointCloud<pcl::PointNormal> aligned;
+      icp.align(aligned);
+      pcl::PointCloud<pcl::PointXYZ> xyz;
+      pcl::copyPointCloud(aligned, xyz);
+      *merged += xyz;
+    }
+    pcl::VoxelGrid<pcl::PointXYZ> grid;
+    grid.setInputCloud(merged);
+    const float leaf = static_cast<float>(kMergeVoxel);
+    grid.setLeafSize(leaf, leaf, leaf);
+    pcl::PointCloud<pcl::PointXYZ>::Ptr resampled(new pcl::PointCloud<pcl::PointXYZ>);
+    grid.filter(*resampled);
+    pcl::StatisticalOutlierRemoval<pcl::PointXYZ> filter;
+    filter.setInputCloud(resampled);
+    filter.setMeanK(kNeighbours);
+    filter.setStddevMulThresh(kOutlierStd);
+    pcl::PointCloud<pcl::PointXYZ> cleaned;
+    filter.filter(cleaned);
+    Points out;
+    for (const auto& p : cleaned) out.emplace_back(p.x, p.y, p.z);
+    return out;
+  });
+#endif
+  print_block("whole merge-views, five views of the robot's stereo (" + std::to_string(sessions.size()) +
+                  " sessions of the families; median over them)",
+              rows);
 }
 
 // n points drawn from a cloud's points, each moved by Gaussian noise of 1 mm per coordinate: the same
@@ -469,6 +714,10 @@ void scaling(const SessionSimulatorConfig& scene, std::size_t largest) {
     }
     return sxy / sxx;
   };
+  if (log_n.size() < 2) {
+    std::printf("  exponent: needs two sizes from 10k points up\n");
+    return;
+  }
   std::printf("  %9s  %14.2f  %16.2f  %14.2f   (time ~ points^exponent, 10k-%s)\n", "exponent", slope(log_time[0]),
               slope(log_time[1]), slope(log_time[2]),
               last >= 1000000 ? "1M" : (std::to_string(last / 1000) + "k").c_str());
@@ -500,14 +749,7 @@ int main(int argc, char** argv) {
     view_config.spacing *= std::sqrt(static_cast<double>(view.size()) / 5000.0);
   }
   // A session of the robot's stereo: one cropped view (a real-size view) and the merged model.
-  const SimulatedSession session = simulate_session(family_session(ToolFamily::hoe, 7));
-  std::vector<PointCloud> views;
-  for (std::size_t v = 0; v < session.views.size(); ++v) {
-    try {
-      views.push_back(crop_view(session.info, session.info.views[v], session.views[v], matched_stereo_crop()).cloud);
-    } catch (const MethodError&) {
-    }
-  }
+  const std::vector<PointCloud> views = session_views(ToolFamily::hoe, 7).views;
   const Points merged = merge_views(views).model.points;
 
   neighbour_search("held tool", model);
@@ -519,6 +761,8 @@ int main(int argc, char** argv) {
   error.topRightCorner<3, 1>() = Vec3(0.003, -0.003, 0.0025);
   const Eigen::Matrix4d truth = held.grasp.inverse();  // model_from_view
   icp(model, view, truth, error * truth);
+  whole_align_pose(min_time_ms < 100.0 ? 1 : 5);
+  whole_merge_views(min_time_ms < 100.0 ? 1 : 2);
   scaling(family_session(ToolFamily::hoe, 7), largest);
   return 0;
 }
