@@ -664,6 +664,12 @@ void check_grasp(ToolFrame& frame, const ToolFrameConfig& config) {
                                      1000 * frame.handle_radius, 1000 * config.grasp_max_radius));
 }
 
+// The doubts that hold whatever the plane and side: the grasp's and the stick's.
+void check_any_plane(ToolFrame& frame, const ToolFrameConfig& config) {
+  check_grasp(frame, config);
+  check_stick(frame, config);
+}
+
 // The frame about a given handle: the symmetry plane through it, the effector axis and its side, the
 // head's kind and the doubts. `frame` holds what preparing the cloud found; about, what the handle alone
 // decides.
@@ -820,11 +826,10 @@ ToolFrame frame_about_handle(ToolFrame frame, const Points& cloud, const Princip
     else if (thin_along_x)
       frame.head_kind = HeadKind::plate;
   }
-  // Doubts: the grasp's; an effector whose two sides reach differently, but not by enough to be salient,
+  // Doubts: those of any plane; an effector whose two sides reach differently, but not by enough to be salient,
   // may have its side reversed (a tool whose sides reach alike within salience-min is symmetric: either
   // side is right).
-  check_grasp(frame, config);
-  check_stick(frame, config);
+  check_any_plane(frame, config);
   const double reach_difference = frame.diagnostics.effector_reach_positive - frame.diagnostics.effector_reach_negative;
   if (!frame.stick && !curled && !frame.diagnostics.salient_effector &&
       std::abs(reach_difference) >= config.salience_min)
@@ -872,15 +877,14 @@ Prepared prepare(const Points& input, HeldPiece held_by_hand, const ToolFrameCon
 
 // A frame as one hypothesis of the search: one plane and one side. The rules' tied and rival planes and
 // their doubt of the side are other hypotheses there, weighed by the search, not alternatives of this one
-// (nor does find-tooltip spend time on them); of its doubts only the grasp's and the stick's stay, the search adds its
-// own.
+// (nor does find-tooltip spend time on them); of its doubts only those of any plane stay, the search adds
+// its own.
 ToolFrame as_hypothesis(ToolFrame frame, const ToolFrameConfig& config) {
   frame.tied_planes = {frame.diagnostics.symmetry_candidates.back()};
   frame.rival_planes.clear();
   frame.effector_side_clear = true;
   frame.confidence = Confidence{};
-  check_grasp(frame, config);
-  check_stick(frame, config);
+  check_any_plane(frame, config);
   return frame;
 }
 
