@@ -32,6 +32,7 @@
 #include "toolinc/registration/icp.hpp"
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
+#include "toolinc/synth/evaluation.hpp"
 #include "toolinc/synth/partial_view.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
@@ -441,9 +442,8 @@ void whole_align_pose(int per_family) {
     for (const ToolFamily family : all_families())
       for (int seed = 0; seed < per_family; ++seed) {
         const PartialViewCase c = make_partial_view_case(family, static_cast<std::uint32_t>(seed));
-        Eigen::Matrix4d hand_from_model = Eigen::Matrix4d::Identity();
         const auto start = std::chrono::steady_clock::now();
-        hand_from_model = align(c);
+        const Eigen::Matrix4d hand_from_model = align(c);
         outcome.ms.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         outcome.right += pose_errors(c, hand_from_model).within(3.0, 0.005, 0.010);
@@ -526,24 +526,17 @@ void whole_align_pose(int per_family) {
     });
   }
 #endif
-  double fastest_peer = 0.0;
-  for (auto& [library, outcome] : rows) {
-    std::sort(outcome.ms.begin(), outcome.ms.end());
-    if (library != "toolinc") {
-      const double median = outcome.ms[outcome.ms.size() / 2];
-      fastest_peer = fastest_peer == 0.0 ? median : std::min(fastest_peer, median);
-    }
+  std::vector<Row> printed;
+  for (auto& [library, o] : rows) {
+    std::sort(o.ms.begin(), o.ms.end());
+    char text[96];
+    std::snprintf(text, sizeof text, "90th percentile %.0f ms; within 3 deg, 5 mm, tooltip 10 mm: %d of %zu",
+                  o.ms[o.ms.size() * 9 / 10], o.right, o.ms.size());
+    printed.push_back({library, o.ms[o.ms.size() / 2], text});
   }
-  std::printf(
-      "\nwhole align-pose from no initial guess (%d random grasps of the 8 families; peers: FPFH, RANSAC, "
-      "point-to-plane ICP)\n",
-      8 * per_family);
-  for (const auto& [library, o] : rows) {
-    const double median = o.ms[o.ms.size() / 2];
-    const std::string ratio = fastest_peer > 0 ? std::to_string(median / fastest_peer).substr(0, 4) : "-";
-    std::printf("  %-10s %9.3f ms  x%-5s  90th percentile %.0f ms; within 3 deg, 5 mm, tooltip 10 mm: %d of %zu\n",
-                library.c_str(), median, ratio.c_str(), o.ms[o.ms.size() * 9 / 10], o.right, o.ms.size());
-  }
+  print_block("whole align-pose from no initial guess (" + std::to_string(8 * per_family) +
+                  " random grasps of the 8 families; peers: FPFH, RANSAC, point-to-plane ICP)",
+              printed);
 }
 
 // A simulated session of the robot's stereo (a family's tool, one recorded grasp): its views cropped, in
@@ -563,7 +556,7 @@ SessionViews session_views(ToolFamily family, std::uint32_t seed) {
     } catch (const MethodError&) {
     }
   }
-  out.truth = transform_points(generate_tool(config.shape, 1).points, config.hand_from_canonical);
+  out.truth = transform_points(true_surface(config), config.hand_from_canonical);
   return out;
 }
 
