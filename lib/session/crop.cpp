@@ -137,28 +137,51 @@ bool within_reach(const Vec3& hand_point, const CropConfig& config) {
   return distance > config.hand_radius && distance <= config.reach;
 }
 
-ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
-                            const CropConfig& config) {
-  const std::vector<Vec3> root_points = view_root_points(session.camera, record, view);
-  const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
-  const int w = view.left.cols, h = view.left.rows;
-  cv::Mat hand = cv::Mat::zeros(view.left.size(), CV_8UC1), reach = hand.clone();
+namespace {
+
+// A view's pixels by where their 3D points lie: on the hand (within hand_radius of it), within the tool's
+// reach beyond it, and the tool followed out of the hand (the reach's pixels that a path of neighbours less
+// than surface_step apart in 3D joins to the hand's own).
+struct HandRegions {
+  cv::Mat hand, reach, followed;
+};
+HandRegions hand_regions(const std::vector<Vec3>& root_points, const Eigen::Matrix4d& hand_from_root,
+                         const cv::Size& size, const CropConfig& config) {
+  HandRegions regions{cv::Mat::zeros(size, CV_8UC1), cv::Mat::zeros(size, CV_8UC1), {}};
   std::vector<int> hand_pixels;
-  for (int i = 0; i < w * h; ++i) {
+  for (int i = 0; i < size.area(); ++i) {
     if (!root_points[i].allFinite()) continue;
     const Vec3 p = apply(hand_from_root, root_points[i]);
     if (p.norm() <= config.hand_radius)
-      hand.data[i] = 255, hand_pixels.push_back(i);
+      regions.hand.data[i] = 255, hand_pixels.push_back(i);
     else if (within_reach(p, config))
-      reach.data[i] = 255;
+      regions.reach.data[i] = 255;
   }
-  const bool blob = !view.blob.empty() && cv::countNonZero(reach & view.blob) > 0;
-  const cv::Mat seed =
-      blob ? reach & view.blob : grown_along_surface(hand_pixels, reach, root_points, config.surface_step);
+  regions.followed = grown_along_surface(hand_pixels, regions.reach, root_points, config.surface_step);
+  return regions;
+}
+
+// A held tool's blob reaches the hand. One that does not (none of its pixels' points within hand_radius of
+// it) lost what joins the head to the hand, as the closest blob does when a head nearer than its handle is
+// cut off from it at their depth edge, or is empty: the tool followed out of the hand joins it.
+bool reaches_hand(const cv::Mat& blob, const HandRegions& regions) {
+  return !blob.empty() && cv::countNonZero(blob & regions.hand) > 0;
+}
+cv::Mat joined_to_hand(const cv::Mat& blob, const HandRegions& regions) {
+  return reaches_hand(blob, regions) ? blob : blob.empty() ? regions.followed : blob | regions.followed;
+}
+
+}  // namespace
+
+ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
+                            const CropConfig& config) {
+  const std::vector<Vec3> root_points = view_root_points(session.camera, record, view);
+  const HandRegions regions = hand_regions(root_points, inverse(record.root_from_hand), view.left.size(), config);
+  const cv::Mat seed = regions.reach & joined_to_hand(view.blob, regions);
   ToolMaskConfig grow = config.mask;
   grow.grow = true;
   ViewToolMask result;
-  result.mask = tool_mask(view.left, seed, grow, hand);
+  result.mask = tool_mask(view.left, seed, grow, regions.hand);
   result.with_depth = result.mask & seed;
   return result;
 }
@@ -180,9 +203,16 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
     mask = closest_blob_mask(view.disparity, config.blob);
     result.mask_source = "closest blob on the disparity";
   }
-  if (cv::countNonZero(mask) == 0) {
-    mask = view_tool_mask(session, record, view, config).with_depth;
-    result.mask_source = "no blob: the tool followed out of the hand";
+  const int w = camera.width, h = camera.height;
+  const std::vector<Vec3> root_points = view_root_points(camera, record, view);
+  const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
+  if (config.follow_hand) {
+    const HandRegions regions = hand_regions(root_points, hand_from_root, mask.size(), config);
+    if (!reaches_hand(mask, regions))
+      result.mask_source = cv::countNonZero(mask) == 0
+                               ? "no blob: the tool followed out of the hand"
+                               : result.mask_source + " short of the hand, with the tool followed out of the hand";
+    mask = joined_to_hand(mask, regions);
   }
   if (config.image_mask) {
     mask = tool_mask(view.left, mask, config.mask);
@@ -191,8 +221,6 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   result.mask_pixels = cv::countNonZero(mask);
   if (result.mask_pixels == 0) throw MethodError(fmt::format("{}: the tool's blob is empty", record.dir));
 
-  const int w = camera.width, h = camera.height;
-  const std::vector<Vec3> root_points = view_root_points(camera, record, view);
   result.points_source = view.points.empty() ? "disparity reprojection (approximate)" : "points.pcd";
   if (config.edge_radius_px > 0) {
     mask = mask.clone();  // the view's blob stays as read
@@ -201,7 +229,6 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   }
   if (config.flood) mask = flood_3d(mask, root_points, config.flood_distance);
 
-  const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
   const Eigen::Matrix3d rotation = hand_from_root.topLeftCorner<3, 3>();
   const Vec3 translation = hand_from_root.topRightCorner<3, 1>();
   PointCloud kept;

@@ -227,11 +227,11 @@ TEST(ConfigDefaults, AlignPoseAndMergeParametersFollowTheirTables) {
 TEST(ConfigDefaults, CropParametersFollowTheirTable) {
   const Json config = read_json(std::string(toolinc::testing::kSourceDir) + "/configs/icub.json");
   const Json& crop = config.at("crop-cloud");
-  // The box and the image-mask switch, which are not numbers, first.
-  ASSERT_GE(crop.size(), 3u);
+  // The box and the switches, which are not numbers, first.
+  ASSERT_GE(crop.size(), 4u);
   auto key = crop.begin();
-  for (const char* name : {"box-min", "box-max", "image-mask"}) EXPECT_EQ((key++).key(), name);
-  expect_section_is_the_table(crop, crop_parameters(), 3);
+  for (const char* name : {"box-min", "box-max", "image-mask", "follow-hand"}) EXPECT_EQ((key++).key(), name);
+  expect_section_is_the_table(crop, crop_parameters(), 4);
   expect_documented(slurp(std::string(toolinc::testing::kSourceDir) + "/docs/method.md"), crop_parameters());
 }
 

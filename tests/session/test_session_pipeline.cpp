@@ -16,6 +16,7 @@
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/random.hpp"
+#include "toolinc/core/rigid.hpp"
 #include "toolinc/core/statistics.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
@@ -85,6 +86,32 @@ TEST(SessionPipeline, NoBlobAtAllToolFollowedOutOfTheHand) {
   EXPECT_EQ(followed.mask_source, "no blob: the tool followed out of the hand");
   EXPECT_LT(median_nearest_distance(followed.cloud.points, with_mask.cloud.points), 0.002);
   EXPECT_GT(followed.cloud.size(), 0.8 * with_mask.cloud.size());
+}
+
+// A blob short of the hand (the closest blob a head nearer than its handle, cut off from it at their depth
+// edge) is joined by the tool followed out of the hand: the crop holds about the points the whole blob's
+// would; the blob alone, only the head's part.
+TEST(SessionPipeline, BlobShortOfTheHandJoinedByTheToolFollowedOutOfIt) {
+  const SimulatedSession session = simulate_session(ideal_family_session(ToolFamily::hoe, 3));
+  const ViewRecord& record = session.info.views[1];
+  const CropResult whole = crop_view(session.info, record, session.views[1]);
+  ViewData short_of_the_hand = session.views[1];
+  short_of_the_hand.blob = session.views[1].blob.clone();
+  const std::vector<Vec3> points = view_root_points(session.info.camera, record, session.views[1]);
+  const Eigen::Matrix4d hand_from_root = record.root_from_hand.inverse();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite() || apply(hand_from_root, points[i]).norm() < 0.2) short_of_the_hand.blob.data[i] = 0;
+  const CropResult followed = crop_view(session.info, record, short_of_the_hand);
+  CropConfig blob_alone;
+  blob_alone.follow_hand = false;
+  const CropResult alone = crop_view(session.info, record, short_of_the_hand, blob_alone);
+  std::printf("whole blob %zu points, short of the hand %zu, followed out of the hand %zu\n", whole.cloud.size(),
+              alone.cloud.size(), followed.cloud.size());
+  EXPECT_EQ(followed.mask_source, "blob.png short of the hand, with the tool followed out of the hand");
+  EXPECT_EQ(alone.mask_source, "blob.png");
+  EXPECT_GT(followed.cloud.size(), 0.9 * whole.cloud.size());
+  EXPECT_LT(median_nearest_distance(followed.cloud.points, whole.cloud.points), 0.002);
+  EXPECT_LT(alone.cloud.size(), 0.7 * whole.cloud.size());
 }
 
 TEST(SessionPipelineAccuracy, EveryFamilyManySessions) {

@@ -40,6 +40,11 @@ struct CropConfig {
   // The blob less what the left image shows to be background at its border (tool_mask.hpp).
   bool image_mask = false;
   ToolMaskConfig mask;
+  // A blob that does not reach the hand (none of its pixels' points within hand_radius of it) is joined by
+  // the tool followed out of the hand (view_tool_mask's seed): the closest blob may be a head nearer than
+  // its handle, cut off from it at their depth edge, and a view may have no blob at all. Off: the blob
+  // alone, and a view without one fails.
+  bool follow_hand = true;
   bool flood = false;             // grow the region from the blob's centre through 3D continuity
   double flood_distance = 0.004;  // m: neighbouring points closer than this are connected (SFM's Flood3D)
   BlobDetectorConfig blob;        // used when the view has no blob.png
