@@ -29,9 +29,8 @@ int main(int argc, char** argv) {
   toolinc::add_xyz_option(cli, "--box-max", box_max, "Hand-frame crop box maximum x y z (m)");
   cli.add_flag("--image-mask", config.image_mask,
                "Trim the blob's border to the tool's edge in the left image (matched stereo fattens the blob past it)");
-  cli.add_flag("--follow-hand,!--no-follow-hand", config.follow_hand,
-               "A blob that does not reach the hand is joined by the tool followed out of the hand along its surface "
-               "(default; --no-follow-hand: the blob alone)");
+  cli.add_flag("--follow-hand", config.follow_hand,
+               "A blob that does not reach the hand is joined by the tool followed out of the hand along its surface");
   cli.add_flag("--flood", config.flood, "Keep only the region 3D-connected to the blob's centre");
   toolinc::add_crop_options(cli, config);
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");

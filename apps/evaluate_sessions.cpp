@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   int grasps = 10;
   double tip_tolerance = 0.010;
   unsigned jobs = 1;
+  bool follow_hand = false;
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "elas", grasp = "recorded", reconstruction = "registered";  // add_tooltip_options
                                                                                          // sets rule's default
@@ -74,6 +75,8 @@ int main(int argc, char** argv) {
                  "the robot's reconstructions (at their recorded poses, no smear check) and kept as bare points")
       ->check(CLI::IsMember({"registered", "original"}))
       ->capture_default_str();
+  cli.add_flag("--follow-hand", follow_hand,
+               "As crop-cloud --follow-hand: a blob short of the hand is joined by the tool followed out of it");
   cli.add_option("--kinematic-error-mm", kinematic_mm, "As simulate-session --kinematic-error-mm")
       ->capture_default_str()
       ->check(toolinc::in_range({0, false, 100, "mm"}));
@@ -89,6 +92,7 @@ int main(int argc, char** argv) {
   return command.run(argc, argv, [&] {
     // Disparity matched over windows is fattened at depth edges.
     if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
+    pipeline.crop.follow_hand = follow_hand;
     if (reconstruction == "original") pipeline = toolinc::as_original_reconstruction(pipeline);
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     toolinc::share_hand_settings(pipeline.frame, pipeline.tooltip);

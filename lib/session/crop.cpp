@@ -206,13 +206,15 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   const int w = camera.width, h = camera.height;
   const std::vector<Vec3> root_points = view_root_points(camera, record, view);
   const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
-  if (config.follow_hand) {
+  if (cv::countNonZero(mask) == 0) {
+    mask = view_tool_mask(session, record, view, config).with_depth;
+    result.mask_source = "no blob: the tool followed out of the hand";
+  } else if (config.follow_hand) {
     const HandRegions regions = hand_regions(root_points, hand_from_root, mask.size(), config);
-    if (!reaches_hand(mask, regions))
-      result.mask_source = cv::countNonZero(mask) == 0
-                               ? "no blob: the tool followed out of the hand"
-                               : result.mask_source + " short of the hand, with the tool followed out of the hand";
-    mask = joined_to_hand(mask, regions);
+    if (!reaches_hand(mask, regions)) {
+      mask = joined_to_hand(mask, regions);
+      result.mask_source += " short of the hand, with the tool followed out of the hand";
+    }
   }
   if (config.image_mask) {
     mask = tool_mask(view.left, mask, config.mask);

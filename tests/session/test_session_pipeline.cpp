@@ -101,10 +101,10 @@ TEST(SessionPipeline, BlobShortOfTheHandJoinedByTheToolFollowedOutOfIt) {
   const Eigen::Matrix4d hand_from_root = record.root_from_hand.inverse();
   for (std::size_t i = 0; i < points.size(); ++i)
     if (!points[i].allFinite() || apply(hand_from_root, points[i]).norm() < 0.2) short_of_the_hand.blob.data[i] = 0;
-  const CropResult followed = crop_view(session.info, record, short_of_the_hand);
-  CropConfig blob_alone;
-  blob_alone.follow_hand = false;
-  const CropResult alone = crop_view(session.info, record, short_of_the_hand, blob_alone);
+  CropConfig follow_hand;
+  follow_hand.follow_hand = true;
+  const CropResult followed = crop_view(session.info, record, short_of_the_hand, follow_hand);
+  const CropResult alone = crop_view(session.info, record, short_of_the_hand);
   std::printf("whole blob %zu points, short of the hand %zu, followed out of the hand %zu\n", whole.cloud.size(),
               alone.cloud.size(), followed.cloud.size());
   EXPECT_EQ(followed.mask_source, "blob.png short of the hand, with the tool followed out of the hand");

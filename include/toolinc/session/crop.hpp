@@ -41,10 +41,10 @@ struct CropConfig {
   bool image_mask = false;
   ToolMaskConfig mask;
   // A blob that does not reach the hand (none of its pixels' points within hand_radius of it) is joined by
-  // the tool followed out of the hand (view_tool_mask's seed): the closest blob may be a head nearer than
-  // its handle, cut off from it at their depth edge, and a view may have no blob at all. Off: the blob
-  // alone, and a view without one fails.
-  bool follow_hand = true;
+  // the tool followed out of the hand, as view_tool_mask seeds its mask: the closest blob may be a head
+  // nearer than its handle, cut off from it at their depth edge. Off (default): the blob alone. A view with
+  // no blob at all is cropped to view_tool_mask's part with depth either way.
+  bool follow_hand = false;
   bool flood = false;             // grow the region from the blob's centre through 3D continuity
   double flood_distance = 0.004;  // m: neighbouring points closer than this are connected (SFM's Flood3D)
   BlobDetectorConfig blob;        // used when the view has no blob.png
