@@ -212,7 +212,8 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   } else if (config.follow_hand) {
     const HandRegions regions = hand_regions(root_points, hand_from_root, mask.size(), config);
     if (!reaches_hand(mask, regions)) {
-      mask = joined_to_hand(mask, regions);
+      const cv::Mat joined = mask | regions.followed;  // a new image: mask may share the view's blob
+      mask = joined;
       result.mask_source += " short of the hand, with the tool followed out of the hand";
     }
   }

@@ -103,7 +103,9 @@ TEST(SessionPipeline, BlobShortOfTheHandJoinedByTheToolFollowedOutOfIt) {
     if (!points[i].allFinite() || apply(hand_from_root, points[i]).norm() < 0.2) short_of_the_hand.blob.data[i] = 0;
   CropConfig follow_hand;
   follow_hand.follow_hand = true;
+  const cv::Mat as_read = short_of_the_hand.blob.clone();
   const CropResult followed = crop_view(session.info, record, short_of_the_hand, follow_hand);
+  EXPECT_EQ(cv::countNonZero(short_of_the_hand.blob != as_read), 0) << "the view's blob was modified";
   const CropResult alone = crop_view(session.info, record, short_of_the_hand);
   std::printf("whole blob %zu points, short of the hand %zu, followed out of the hand %zu\n", whole.cloud.size(),
               alone.cloud.size(), followed.cloud.size());
