@@ -171,12 +171,10 @@ cv::Mat joined_to_hand(const cv::Mat& blob, const HandRegions& regions) {
   return reaches_hand(blob, regions) ? blob : blob.empty() ? regions.followed : blob | regions.followed;
 }
 
-}  // namespace
-
-ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
-                            const CropConfig& config) {
-  const std::vector<Vec3> root_points = view_root_points(session.camera, record, view);
-  const HandRegions regions = hand_regions(root_points, inverse(record.root_from_hand), view.left.size(), config);
+// view_tool_mask with the view's points (view_root_points) and hand pose already at hand.
+ViewToolMask tool_mask_of(const ViewData& view, const std::vector<Vec3>& root_points,
+                          const Eigen::Matrix4d& hand_from_root, const CropConfig& config) {
+  const HandRegions regions = hand_regions(root_points, hand_from_root, view.left.size(), config);
   const cv::Mat seed = regions.reach & joined_to_hand(view.blob, regions);
   ToolMaskConfig grow = config.mask;
   grow.grow = true;
@@ -184,6 +182,13 @@ ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record
   result.mask = tool_mask(view.left, seed, grow, regions.hand);
   result.with_depth = result.mask & seed;
   return result;
+}
+
+}  // namespace
+
+ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record, const ViewData& view,
+                            const CropConfig& config) {
+  return tool_mask_of(view, view_root_points(session.camera, record, view), inverse(record.root_from_hand), config);
 }
 
 CropConfig matched_stereo_crop() {
@@ -207,7 +212,7 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
   const std::vector<Vec3> root_points = view_root_points(camera, record, view);
   const Eigen::Matrix4d hand_from_root = inverse(record.root_from_hand);
   if (cv::countNonZero(mask) == 0) {
-    mask = view_tool_mask(session, record, view, config).with_depth;
+    mask = tool_mask_of(view, root_points, hand_from_root, config).with_depth;
     result.mask_source = "no blob: the tool followed out of the hand";
   } else if (config.follow_hand) {
     const HandRegions regions = hand_regions(root_points, hand_from_root, mask.size(), config);
