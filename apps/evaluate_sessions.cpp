@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(toolinc::in_range({toolinc::kMinLength, false, toolinc::kMaxLength, "m"}));
   cli.add_option("--stereo", stereo,
-                 "The sessions' stereo model, as simulate-session --stereo (elas, sgbm: crop drops depth edges and "
-                 "trims the blob by the image, crop-cloud --edge-radius 2 --image-mask)")
+                 "The sessions' stereo model, as simulate-session --stereo (elas: crop trims the blob by the image, "
+                 "crop-cloud --image-mask; sgbm: it also drops depth edges, --edge-radius 2)")
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--grasp", grasp, "The sessions' grasps, as simulate-session --grasp")
@@ -90,8 +90,7 @@ int main(int argc, char** argv) {
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
   return command.run(argc, argv, [&] {
-    // Disparity matched over windows is fattened at depth edges.
-    if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
+    pipeline.crop = toolinc::session_crop(toolinc::stereo_model_from_string(stereo));
     pipeline.crop.follow_hand = follow_hand;
     if (reconstruction == "original") pipeline = toolinc::as_original_reconstruction(pipeline);
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);

@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
   return command.run(argc, argv, [&] {
-    if (stereo != "ideal") pipeline.crop = toolinc::matched_stereo_crop();
+    pipeline.crop = toolinc::session_crop(toolinc::stereo_model_from_string(stereo));
     pipeline.tooltip.rule = toolinc::tooltip_rule_from_string(rule);
     toolinc::share_hand_settings(pipeline.frame, pipeline.tooltip);
     // The score to compare with, read before the long run so that a bad file fails at once.

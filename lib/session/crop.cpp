@@ -191,9 +191,9 @@ ViewToolMask view_tool_mask(const SessionInfo& session, const ViewRecord& record
   return tool_mask_of(view, view_root_points(session.camera, record, view), inverse(record.root_from_hand), config);
 }
 
-CropConfig matched_stereo_crop() {
+CropConfig matched_stereo_crop(StereoMatcher matcher) {
   CropConfig config;
-  config.edge_radius_px = 2;
+  config.edge_radius_px = matcher == StereoMatcher::sgbm ? 2 : 0;
   config.image_mask = true;
   return config;
 }

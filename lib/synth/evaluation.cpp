@@ -111,6 +111,11 @@ MergedSession simulate_and_merge(const SessionSimulatorConfig& config, const Pip
 
 }  // namespace
 
+CropConfig session_crop(StereoModel stereo) {
+  if (stereo == StereoModel::ideal) return {};
+  return matched_stereo_crop(stereo == StereoModel::sgbm ? StereoMatcher::sgbm : StereoMatcher::libelas);
+}
+
 PipelineConfig as_original_reconstruction(PipelineConfig pipeline) {
   pipeline.merge = original_merge();
   pipeline.bare_model = true;

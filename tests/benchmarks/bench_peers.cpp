@@ -552,7 +552,7 @@ SessionViews session_views(ToolFamily family, std::uint32_t seed) {
   for (std::size_t v = 0; v < session.views.size(); ++v) {
     try {
       out.views.push_back(
-          crop_view(session.info, session.info.views[v], session.views[v], matched_stereo_crop()).cloud);
+          crop_view(session.info, session.info.views[v], session.views[v], session_crop(StereoModel::elas)).cloud);
     } catch (const MethodError&) {
     }
   }

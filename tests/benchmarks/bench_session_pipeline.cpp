@@ -12,6 +12,7 @@
 #include "toolinc/frame/tooltip.hpp"
 #include "toolinc/registration/merge_views.hpp"
 #include "toolinc/session/crop.hpp"
+#include "toolinc/synth/evaluation.hpp"
 #include "toolinc/synth/grasp.hpp"
 #include "toolinc/synth/session_simulator.hpp"
 
@@ -35,11 +36,6 @@ const SimulatedSession& sample_session(StereoModel stereo = SessionSimulatorConf
   return sessions.at(stereo);
 }
 
-// crop's settings per stereo model, as evaluate-sessions uses them.
-CropConfig crop_config(StereoModel stereo) {
-  return stereo == StereoModel::ideal ? CropConfig{} : matched_stereo_crop();
-}
-
 // Every view crop-cloud --all keeps (a matched view may have no blob: the closest blob leaked into the table).
 std::vector<PointCloud> crop_all(const SimulatedSession& s, const CropConfig& crop = {}) {
   std::vector<PointCloud> views;
@@ -56,13 +52,13 @@ void BM_CropView(benchmark::State& state) {
   const auto& s = sample_session();
   ViewData view = s.views[0];
   if (state.range(0) == 1) view.points.clear();  // reprojection path
-  const CropConfig crop = crop_config(SessionSimulatorConfig{}.stereo);
+  const CropConfig crop = session_crop(SessionSimulatorConfig{}.stereo);
   for (auto _ : state) benchmark::DoNotOptimize(crop_view(s.info, s.info.views[0], view, crop));
   state.SetLabel(state.range(0) == 1 ? "disparity reprojection" : "points.pcd");
 }
 
 void BM_MergeFiveViews(benchmark::State& state) {
-  const auto views = crop_all(sample_session(), crop_config(SessionSimulatorConfig{}.stereo));
+  const auto views = crop_all(sample_session(), session_crop(SessionSimulatorConfig{}.stereo));
   for (auto _ : state) benchmark::DoNotOptimize(merge_views(views));
   state.SetLabel(std::to_string(views[0].size()) + "+... points per view");
 }
@@ -70,7 +66,7 @@ void BM_MergeFiveViews(benchmark::State& state) {
 void BM_WholePipeline(benchmark::State& state) {
   const auto stereo = static_cast<StereoModel>(state.range(0));
   const auto& s = sample_session(stereo);
-  const CropConfig crop = crop_config(stereo);
+  const CropConfig crop = session_crop(stereo);
   for (auto _ : state) {
     const MergeResult merged = merge_views(crop_all(s, crop));
     const ToolFrame frame = estimate_tool_frame(merged.model.points, {}, merged.model.viewpoints, merged.model.views);

@@ -35,7 +35,7 @@ struct CropConfig {
   // their distance (a surface at 45 cm seen 85 degrees from frontal changes by 1.7 px per pixel), or
   // none (no match beside a matched pixel is an occlusion or a wrong-match edge). 0 (default) disables:
   // on disparity without fattening it only shaves the tool's true edges, tip included.
-  int edge_radius_px = 0;     // px (matched_stereo_crop's for matched disparity)
+  int edge_radius_px = 0;     // px (matched_stereo_crop(sgbm)'s: 2)
   double edge_jump_px = 2.0;  // px of disparity per pixel
   // The blob less what the left image shows to be background at its border (tool_mask.hpp).
   bool image_mask = false;
@@ -57,11 +57,18 @@ struct CropResult {
   int mask_pixels = 0, edge_pixels = 0, points_3d = 0, in_box = 0, outside_hand = 0;
 };
 
-// The settings for disparity matched from the two images (SFM's LIBELAS or SGBM), which fattens the
-// tool past its edges: depth edges dropped within 2 px (SGBM's 7 px blocks fatten by up to their half-size,
-// 3 px, but dropping 3 px also shaves the true tips: on 96 SGBM sessions the tooltip was within 20 mm in
-// 54 with 0 px, 61 with 2, 41 with 3), and the blob trimmed by the left image.
-CropConfig matched_stereo_crop();
+// How the iCub stereo module SFM matched the disparity: LIBELAS (its default) or SGBM (--use_sgbm).
+enum class StereoMatcher { libelas, sgbm };
+
+// The settings for disparity matched from the two images, which fattens the tool past its edges: the blob
+// trimmed by the left image, and for SGBM depth edges dropped within 2 px as well. SGBM's 7 px blocks
+// fatten by up to their half-size, 3 px, beyond what the image's trim reaches in places, but dropping 3 px
+// also shaves the true tips (on 96 SGBM sessions the tooltip was within 20 mm in 54 with 0 px, 61 with 2,
+// 41 with 3). LIBELAS interpolates between support points instead of spreading a block, the image's trim
+// takes its fattening, and dropping depth edges too only shaves the tool's true edges: a bar's far side
+// lost that way puts an L-stick's tip 15-17 mm short (on the families' LIBELAS-like sessions, tooltips
+// within 10 mm of the aligned truth: 109 of 128 with the 2 px drop, 114 without).
+CropConfig matched_stereo_crop(StereoMatcher matcher);
 
 // The view's root-frame point of every pixel (row-major, NaN where there is none): the stereo module's
 // exact points where recorded, else reprojected from the 8-bit disparity.

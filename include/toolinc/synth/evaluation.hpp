@@ -51,6 +51,10 @@ struct PipelineConfig {
   TooltipConfig tooltip;
 };
 
+// crop-cloud's settings for sessions of this stereo model: the defaults on ideal disparity, the matcher's
+// (matched_stereo_crop) on matched disparity.
+CropConfig session_crop(StereoModel stereo);
+
 // The pipeline as the robot's reconstructions were made by the original exploreTool: its merge
 // (original_merge) and the model kept as bare points.
 PipelineConfig as_original_reconstruction(PipelineConfig pipeline);
