@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   toolinc::DnnFeatureConfig dnn;
   std::pair<int, int> input_size{dnn.input_width, dnn.input_height};
   const std::vector<CLI::Option*> dnn_only = {
-      cli.add_option("--input-size", input_size, "dnn: network input W H (default 224 224)")->capture_default_str(),
+      cli.add_option("--input-size", input_size, "dnn: network input W H, 1 to 4096 px each (default 224 224)")
+          ->capture_default_str(),
       cli.add_option("--mean", dnn.mean, "dnn: per-channel mean r g b of pixel values in [0, 1]")
           ->capture_default_str(),
       cli.add_option("--std", dnn.std, "dnn: per-channel std r g b of pixel values in [0, 1]")->capture_default_str(),

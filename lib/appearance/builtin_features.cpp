@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -176,9 +177,7 @@ Eigen::VectorXd colour_histogram(const cv::Mat& bgr, const cv::Mat& mask, const 
 }
 
 int positive_int(const Json& json, const std::string& key, const std::string& file) {
-  if (!json.contains(key) || !json[key].is_number_integer() || json[key].get<int>() <= 0)
-    throw InputError(file, fmt::format("extractor: \"{}\" must be a positive integer", key));
-  return json[key].get<int>();
+  return int_field(json, key, file, 1, std::numeric_limits<int>::max());
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -39,9 +40,12 @@ std::string one_line(const std::string& text) {
 }  // namespace
 
 void check(const DnnFeatureConfig& c) {
-  if (c.input_width <= 0 || c.input_height <= 0)
-    throw std::invalid_argument(
-        fmt::format("--input-size: must be positive, not {} {}", c.input_width, c.input_height));
+  // Image networks take a few hundred px a side; 4096 px is already a 200 MB input tensor.
+  constexpr int kMaxInputSide = 4096;
+  const auto in_range = [](int side) { return side >= 1 && side <= kMaxInputSide; };
+  if (!in_range(c.input_width) || !in_range(c.input_height))
+    throw std::invalid_argument(fmt::format("--input-size: each side must be 1 to {} px, not {} {}", kMaxInputSide,
+                                            c.input_width, c.input_height));
   for (const double m : c.mean)
     if (!std::isfinite(m)) throw std::invalid_argument("--mean: every value must be a finite number");
   for (const double s : c.std)
@@ -134,9 +138,10 @@ Json to_json(const DnnFeatureExtractor& extractor) {
 DnnFeatureConfig dnn_config_from_json(const Json& json, const std::string& file) {
   DnnFeatureConfig c;
   const Json& size = json.value("input_size", Json());
-  if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() || !size[1].is_number_integer())
-    throw InputError(file, "extractor: \"input_size\" must be [width, height]");
-  c.input_width = size[0].get<int>(), c.input_height = size[1].get<int>();
+  if (!size.is_array() || size.size() != 2) throw InputError(file, "extractor: \"input_size\" must be [width, height]");
+  constexpr int kMax = std::numeric_limits<int>::max();
+  c.input_width = int_value(size[0], "input_size", file, 1, kMax);
+  c.input_height = int_value(size[1], "input_size", file, 1, kMax);
   c.mean = triple(json, "mean", file);
   c.std = triple(json, "std", file);
   for (const char* key : {"model", "channel_order", "output_layer"})

@@ -2,6 +2,10 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <cstdint>
+#include <limits>
+#include <optional>
+
 #include "toolinc/core/error.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/read_file.hpp"
@@ -93,13 +97,33 @@ std::string string_field(const Json& json, const std::string& key, const std::st
   return json.at(key).get<std::string>();
 }
 
+int int_value(const Json& value, const std::string& what, const std::string& file, int lo, int hi) {
+  std::optional<std::int64_t> n;
+  if (value.is_number_unsigned()) {
+    if (value.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      n = static_cast<std::int64_t>(value.get<std::uint64_t>());
+  } else if (value.is_number_integer()) {
+    n = value.get<std::int64_t>();
+  }
+  if (!n || *n < lo || *n > hi)
+    throw InputError(file,
+                     fmt::format("\"{}\" must be an integer from {} to {} (found {})", what, lo, hi, value.dump()));
+  return static_cast<int>(*n);
+}
+
+int int_field(const Json& json, const std::string& key, const std::string& file, int lo, int hi) {
+  if (!json.is_object() || !json.contains(key)) throw InputError(file, fmt::format("missing \"{}\"", key));
+  return int_value(json.at(key), key, file, lo, hi);
+}
+
 void check_type(const Json& json, const std::string& type, int supported_version, const std::string& file) {
   if (!json.is_object() || !json.contains("type") || !json["type"].is_string())
     throw InputError(file, fmt::format("not a {} file (no \"type\")", type));
   if (json["type"].get<std::string>() != type)
     throw InputError(file, fmt::format("expected type \"{}\", found \"{}\"", type, json["type"].get<std::string>()));
-  if (!json.contains("version") || !json["version"].is_number_integer() || json["version"].get<int>() < 1 ||
-      json["version"].get<int>() > supported_version)
+  const Json& version = json.value("version", Json());
+  if (!version.is_number_integer() || version.get<std::int64_t>() < 1 ||
+      version.get<std::int64_t>() > supported_version)
     throw InputError(file, fmt::format("unsupported {} version (this build reads up to {})", type, supported_version));
 }
 

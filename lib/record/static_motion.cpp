@@ -1,8 +1,11 @@
 #include "toolinc/record/static_motion.hpp"
 
+#include <cmath>
+
 #include "toolinc/core/error.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/io/limits.hpp"
 
 namespace toolinc {
 namespace {
@@ -52,9 +55,10 @@ StaticMotion read_static_motion(const std::string& path) {
     throw InputError(path, "missing \"camera\" {width, height, fx, fy, cx, cy}");
   const Json& c = json["camera"];
   CameraModel camera;
+  constexpr int kMaxSide = static_cast<int>(kMaxImageSide);
+  camera.width = int_field(c, "width", path, 1, kMaxSide);
+  camera.height = int_field(c, "height", path, 1, kMaxSide);
   try {
-    camera.width = c.at("width").get<int>();
-    camera.height = c.at("height").get<int>();
     camera.fx = c.at("fx").get<double>();
     camera.fy = c.at("fy").get<double>();
     camera.cx = c.at("cx").get<double>();
@@ -62,8 +66,9 @@ StaticMotion read_static_motion(const std::string& path) {
   } catch (const nlohmann::json::exception&) {
     throw InputError(path, "camera needs numbers width, height, fx, fy, cx, cy");
   }
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0))
-    throw InputError(path, "camera size and focal lengths must be positive");
+  for (const double v : {camera.fx, camera.fy, camera.cx, camera.cy})
+    if (!std::isfinite(v)) throw InputError(path, "camera fx, fy, cx, cy must be finite");
+  if (!(camera.fx > 0) || !(camera.fy > 0)) throw InputError(path, "camera focal lengths must be positive");
   StaticMotion motion;
   motion.arm = std::make_unique<StaticArm>(rigid(json, "root_from_hand", path), path);
   motion.gaze = std::make_unique<StaticGaze>(rigid(json, "root_from_camera", path), camera, path);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
+#include <type_traits>
 
 #include "toolinc/core/error.hpp"
 #include "toolinc/frame/tooltip.hpp"
@@ -18,11 +20,15 @@ namespace {
 // --- Reading ---------------------------------------------------------------------------------------
 
 // The value at a JSON pointer ("/correction/rotation_deg") as T; InputError naming the file and the
-// key when it is missing or of another type.
+// key when it is missing or of another type. Integers here are counts.
 template <typename T>
 T get(const Json& json, const std::string& pointer, const std::string& file) {
   try {
-    return json.at(Json::json_pointer(pointer)).get<T>();
+    const Json& value = json.at(Json::json_pointer(pointer));
+    if constexpr (std::is_same_v<T, int>)
+      return int_value(value, pointer.substr(1), file, 0, std::numeric_limits<int>::max());
+    else
+      return value.get<T>();
   } catch (const nlohmann::json::exception&) {
     throw InputError(file, fmt::format("\"{}\" is missing or of the wrong type", pointer.substr(1)));
   }

@@ -5,7 +5,9 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
@@ -15,6 +17,7 @@
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/io/atomic_file.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/io/limits.hpp"
 #include "toolinc/io/pcd_write.hpp"
 #include "toolinc/io/read_file.hpp"
 #include "toolinc/io/run_inputs.hpp"
@@ -46,12 +49,6 @@ double positive(const Json& json, const std::string& key, const std::string& fil
   return value;
 }
 
-int positive_int(const Json& json, const std::string& key, const std::string& file) {
-  if (!field(json, key, file).is_number_integer())
-    throw InputError(file, fmt::format("\"{}\" must be an integer", key));
-  return static_cast<int>(positive(json, key, file));
-}
-
 // Descriptive fields a hand-made session may leave out.
 std::string optional_text(const Json& json, const std::string& key, const std::string& file) {
   return json.contains(key) ? string_field(json, key, file) : std::string();
@@ -68,13 +65,14 @@ Eigen::Matrix4d rigid_field(const Json& json, const std::string& key, const std:
 
 CameraModel camera_from_json(const Json& json, const std::string& file) {
   CameraModel camera;
-  camera.width = positive_int(json, "width", file);
-  camera.height = positive_int(json, "height", file);
+  constexpr int kMaxSide = static_cast<int>(kMaxImageSide);
+  camera.width = int_field(json, "width", file, 1, kMaxSide);
+  camera.height = int_field(json, "height", file, 1, kMaxSide);
   camera.fx = positive(json, "fx", file);
   camera.fy = positive(json, "fy", file);
   camera.cx = positive(json, "cx", file);
   camera.cy = positive(json, "cy", file);
-  camera.num_disparities = positive_int(json, "num_disparities", file);
+  camera.num_disparities = int_field(json, "num_disparities", file, 1, kMaxSide);
   camera.baseline = positive(json, "baseline", file);
   return camera;
 }
@@ -83,10 +81,8 @@ BlobInfo blob_from_json(const Json& json, const std::string& file) {
   BlobInfo blob{number(json, "cx", file), number(json, "cy", file), number(json, "area", file)};
   const Json& roi = field(json, "roi", file);
   if (!roi.is_array() || roi.size() != 4) throw InputError(file, "blob roi must be [tlx, tly, brx, bry]");
-  for (int i = 0; i < 4; ++i) {
-    if (!roi[i].is_number_integer()) throw InputError(file, "blob roi must hold integers");
-    blob.roi[i] = roi[i].get<int>();
-  }
+  for (int i = 0; i < 4; ++i)
+    blob.roi[i] = int_value(roi[i], "roi", file, std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
   return blob;
 }
 
@@ -263,7 +259,7 @@ SessionInfo read_session(const std::string& session_dir) {
       json.contains("format") && json["format"].is_string() ? json["format"].get<std::string>() : "";
   if (format != kFormat) throw InputError(file, fmt::format("format is \"{}\", expected \"{}\"", format, kFormat));
   const Json& version = field(json, "version", file);
-  if (!version.is_number_integer() || version.get<int>() != kSessionFormatVersion)
+  if (!version.is_number_integer() || version.get<std::int64_t>() != kSessionFormatVersion)
     throw InputError(file, fmt::format("format version {} is not supported (this build reads {})", version.dump(),
                                        kSessionFormatVersion));
   SessionInfo session;

@@ -1099,13 +1099,15 @@ TEST(AppearanceHostileNetwork, AnUnknownOperatorIsOneLine) {
   expect_network_refused("operator", faulty([](auto& n) { n.activation = "NoSuchOp"; }), "NoSuchOp");
 }
 
-TEST(AppearanceHostileNetwork, NonFiniteNormalisationIsRefusedByOptionName) {
+TEST(AppearanceHostileNetwork, NonFiniteNormalisationOrAnAbsurdSizeIsRefusedByOptionName) {
   const auto dir = scratch_dir("hostile-normalisation");
   const auto net = write_network(dir / "net.onnx", {}), out = dir / "classifier.json";
-  for (const std::string option : {"--mean inf 0 0", "--mean 0 nan 0", "--std 1 1 inf", "--std 1e400 1 1"}) {
+  for (const std::string option : {"--mean inf 0 0", "--mean 0 nan 0", "--std 1 1 inf", "--std 1e400 1 1",
+                                   "--input-size 0 32", "--input-size 32 100000"}) {
+    const std::string size = option.rfind("--input-size", 0) == 0 ? "" : " --input-size 32 32";
     const ToolRun run =
         run_tool("learn-appearance", "train --session " + session(ToolFamily::hoe, 0).string() + " --backbone " +
-                                         net.string() + " --input-size 32 32 " + option + " -o " + out.string());
+                                         net.string() + size + " " + option + " -o " + out.string());
     SCOPED_TRACE(option + ": " + run.err);
     EXPECT_EQ(run.exit_code, 2);
     expect_failure_left_nothing(run, option.substr(0, option.find(' ')), out, dir);

@@ -207,11 +207,21 @@ TEST(Session, RejectsWrongFormatVersionCameraAndHand) {
   edit_json(file, [](Json& j) { j["version"] = 2; });
   expect_session_error(dir, {file.string(), "format version 2 is not supported (this build reads 1)"});
   restore();
-  for (const char* key : {"width", "fx", "cy", "num_disparities", "baseline"}) {
+  edit_json(file, [](Json& j) { j["version"] = 4294967297LL; });  // 2^32 + 1 must not wrap to 1
+  expect_session_error(dir, {file.string(), "format version 4294967297 is not supported"});
+  restore();
+  for (const char* key : {"fx", "cy", "baseline"}) {
     edit_json(file, [&](Json& j) { j["camera"][key] = 0; });
     expect_session_error(dir, {file.string(), key, "positive"});
     restore();
   }
+  // Integers are read whole: 0, a fraction, or one beyond int (cast, it would be undefined or wrap).
+  for (const char* key : {"width", "num_disparities"})
+    for (const Json& value : {Json(0), Json(8.5), Json(222222222222222LL), Json(18446744073709551615ULL)}) {
+      edit_json(file, [&](Json& j) { j["camera"][key] = value; });
+      expect_session_error(dir, {file.string(), key, "must be an integer from 1 to", value.dump()});
+      restore();
+    }
   edit_json(file, [](Json& j) { j["hand"] = "middle"; });
   expect_session_error(dir, {file.string(), "middle"});
   restore();
@@ -238,6 +248,11 @@ TEST(Session, RejectsMissingViewsAndNonRigidPoses) {
     j["root_from_camera"][1][1] = nullptr;
   });
   expect_session_error(bent, {view.string(), "root_from_camera"});
+
+  const fs::path wide = write_small("roi-beyond-int");
+  const fs::path wide_view = wide / "views/000/view.json";
+  edit_json(wide_view, [](Json& j) { j["blob"]["roi"][2] = 4294967302LL; });
+  expect_session_error(wide, {wide_view.string(), "roi", "4294967302"});
 }
 
 TEST(Session, RejectsMissingUnreadableOrMissizedImages) {

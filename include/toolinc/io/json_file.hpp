@@ -36,6 +36,10 @@ Json to_json(const Eigen::Matrix4d& m);  // 4 rows of 4
 // Readers for fields of a result file; they throw InputError(file, "<key>: <problem>").
 Eigen::Vector3d vector3_field(const Json& json, const std::string& key, const std::string& file);
 std::string string_field(const Json& json, const std::string& key, const std::string& file);
+// A JSON integer (not 2.0, not 1e20) within [lo, hi]; otherwise InputError naming what and the range. Read
+// through 64 bits first: casting an out-of-range number to int is undefined or wraps (2^32 + 1 would read 1).
+int int_value(const Json& value, const std::string& what, const std::string& file, int lo, int hi);
+int int_field(const Json& json, const std::string& key, const std::string& file, int lo, int hi);
 Eigen::Matrix4d matrix4_field(const Json& json, const std::string& key, const std::string& file);
 // Checks "type" and "version" (<= supported) and throws InputError otherwise.
 void check_type(const Json& json, const std::string& type, int supported_version, const std::string& file);
