@@ -77,6 +77,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_flag("--follow-hand", follow_hand,
                "As crop-cloud --follow-hand: a blob short of the hand is joined by the tool followed out of it");
+  cli.add_flag("--revisit-views", pipeline.merge.revisit_views,
+               "As merge-views --revisit-views: a view that does not fit is tried again, then as the reference");
   cli.add_option("--kinematic-error-mm", kinematic_mm, "As simulate-session --kinematic-error-mm")
       ->capture_default_str()
       ->check(toolinc::in_range({0, false, 100, "mm"}));

@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
   cli.add_option("views", inputs, "View clouds in the hand frame; the first is the reference")->required();
   command.add_output("Output model PLY");
   cli.add_option("--report", report_file, "Merge report JSON: per view accepted or rejected, correction, why");
+  cli.add_flag("--revisit-views", config.revisit_views,
+               "Try a view that does not fit again after the later views, and while one still does not, every view "
+               "as the reference");
   toolinc::add_merge_options(cli, config);
   cli.add_flag("--ascii", ascii, "Write ASCII PLY");
   return command.run(argc, argv, [&] {

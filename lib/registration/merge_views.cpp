@@ -67,32 +67,24 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
     throw MethodError(fmt::format("the reference view has only {} points, at least {} needed", views[0].points.size(),
                                   config.min_points));
   MergeResult result;
+  result.views.resize(views.size());
   Points accumulated = views[0].points;
   std::vector<std::uint32_t> accumulated_views = views[0].views;  // the views that saw them, when labelled
   std::vector<PointCloud> aligned(views.size());  // the accepted views in the reference view's frame, the
                                                   // rejected ones empty
   aligned[0] = views[0];
-  result.views.push_back({true,
-                          "reference",
-                          Eigen::Matrix4d::Identity(),
-                          {0, 0, 0},
-                          0.0,
-                          1.0,
-                          0.0,
-                          0,
-                          static_cast<int>(views[0].points.size())});
-  const auto report_progress = [&] {
-    if (config.progress) config.progress(result.views.size(), views.size());
-  };
-  report_progress();
-  for (std::size_t v = 1; v < views.size(); ++v) {
-    ViewMerge merge;
+  result.views[0] = {true,      "reference", Eigen::Matrix4d::Identity(),
+                     {0, 0, 0}, 0.0,         1.0,
+                     0.0,       0,           static_cast<int>(views[0].points.size())};
+  if (config.progress) config.progress(1, views.size());
+  // One view refined against the model built so far; merged into it when the correction is plausible.
+  const auto merge_view = [&](std::size_t v) {
+    ViewMerge& merge = result.views[v];
+    merge = ViewMerge{};
     merge.points = static_cast<int>(views[v].points.size());
     if (merge.points < config.min_points) {
       merge.reason = fmt::format("too few points ({} < {})", merge.points, config.min_points);
-      result.views.push_back(merge);
-      report_progress();
-      continue;
+      return;
     }
     const IcpTarget target(voxel_downsample(accumulated, config.voxel_size));
     const IcpResult icp = align_point_to_plane(voxel_downsample(views[v].points, config.registration_voxel), target,
@@ -104,16 +96,16 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
     merge.inlier_rmse = icp.inlier_rmse;
     merge.iterations = icp.iterations;
     const double worst_axis = icp.target_from_source.topRightCorner<3, 1>().cwiseAbs().maxCoeff();
-    if (worst_axis > config.max_translation)
+    if (worst_axis > config.max_translation) {
       merge.reason =
           fmt::format("correction of {:.3f} m along an axis exceeds {} m", worst_axis, config.max_translation);
-    else if (merge.rotation_deg > config.max_rotation_deg)
+    } else if (merge.rotation_deg > config.max_rotation_deg) {
       merge.reason =
           fmt::format("correction of {:.1f} deg exceeds {} deg", merge.rotation_deg, config.max_rotation_deg);
-    else if (icp.inlier_ratio < config.min_inlier_ratio)
+    } else if (icp.inlier_ratio < config.min_inlier_ratio) {
       merge.reason = fmt::format("only {:.0f}% of the view lands on the model after alignment (min {:.0f}%)",
                                  100 * icp.inlier_ratio, 100 * config.min_inlier_ratio);
-    else {
+    } else {
       merge.accepted = true;
       merge.reason = "aligned";
       aligned[v].points = transform_points(views[v].points, icp.target_from_source);
@@ -122,8 +114,25 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
       accumulated.insert(accumulated.end(), aligned[v].points.begin(), aligned[v].points.end());
       accumulated_views.insert(accumulated_views.end(), views[v].views.begin(), views[v].views.end());
     }
-    result.views.push_back(merge);
-    report_progress();
+  };
+  // A view that does not fit the model built so far may fit it once later views have grown it (one seen
+  // from behind, bridged by one from the side; a far-seeing one against short ones): with revisit_views the
+  // views that failed to fit are tried again, in order, until a pass merges none of them.
+  std::vector<std::size_t> pending;
+  for (std::size_t v = 1; v < views.size(); ++v) {
+    merge_view(v);
+    if (config.progress) config.progress(v + 1, views.size());
+    if (config.revisit_views && !result.views[v].accepted && result.views[v].points >= config.min_points)
+      pending.push_back(v);
+  }
+  for (std::size_t before = 0; !pending.empty() && pending.size() != before;) {
+    before = pending.size();
+    std::vector<std::size_t> unfit;
+    for (const std::size_t v : pending) {
+      merge_view(v);
+      if (!result.views[v].accepted) unfit.push_back(v);
+    }
+    pending = std::move(unfit);
   }
   // The reference view carries its own kinematic error; the views' errors are independent and zero-mean,
   // so the mean of the accepted views' frames is a better estimate of the hand frame than any one of them.
@@ -178,8 +187,11 @@ MergeResult merge_views(const std::vector<PointCloud>& input, const MergeConfig&
       views[v].views.clear();
   MergeResult best = merge_onto_first(views, config);
   // A reference that most views do not fit (a wrong blob, a gross pose error) loses the good views with
-  // it: then the reference is the view that the most others fit, the earliest of equals.
-  if (2 * accepted_views(best) >= static_cast<int>(views.size())) return best;
+  // it; one that some view does not fit may see less than that view (the head beyond a blob cut at a
+  // depth edge lands mostly off the rest). Then the reference is the view that the most others fit, the
+  // earliest of equals.
+  const int all = static_cast<int>(views.size());
+  if (config.revisit_views ? accepted_views(best) == all : 2 * accepted_views(best) >= all) return best;
   MergeConfig quiet = config;
   quiet.progress = nullptr;
   for (std::size_t r = 1; r < views.size(); ++r) {

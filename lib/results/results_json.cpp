@@ -357,6 +357,8 @@ Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult
                      {"iterations", m.iterations},
                      {"smear_dropped", m.smear_dropped}});
   }
+  Json merge_settings = settings_json(config, merge_parameters());
+  merge_settings["revisit-views"] = config.revisit_views;
   return {{"type", "merge_report"},
           {"version", 1},
           {"ok", failure.empty()},
@@ -364,7 +366,7 @@ Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult
           {"views", views},
           {"hand_from_reference", to_json(merged.hand_from_reference)},
           {"model_points", merged.model.size()},
-          {"settings", settings_json(config, merge_parameters())}};
+          {"settings", merge_settings}};
 }
 
 }  // namespace toolinc

@@ -23,6 +23,10 @@ struct MergeConfig {
   int min_points = 300;                  // a view with fewer points is rejected (the original's floor)
   double clean_radius = 0.01;            // m: stray points with fewer than clean_min_neighbors within
   int clean_min_neighbors = 20;          //    clean_radius are removed at the end (the original's values)
+  bool revisit_views = false;            // a view that does not fit is tried again after the later views,
+                                         //    and while one still does not, every view is tried as the
+                                         //    reference; off: each view once, the first the reference
+                                         //    unless fewer than half the views fit it
   double see_through_tolerance = 0.005;  // m: a view's point that another view saw through, nearer to that
                                          //    view than the tool it saw there by more than this (depth noise
                                          //    and registration residual), is smear and is dropped; 0: none
@@ -55,9 +59,10 @@ struct MergeResult {
 };
 
 // Views in the hand frame, with their viewpoints if known (carried into the model with the corrections).
-// The first view is the reference, unless fewer than half the views fit onto it: then the view that the
-// most others fit (results in the input's order all the same). Throws MethodError when the first view
-// has fewer than min_points points.
+// The first view is the reference, unless fewer than half the views fit onto it (with revisit_views: unless
+// some view fits neither once nor when tried again after the later views): then the view that the most
+// others fit, the earliest of equals (results in the input's order all the same). Throws MethodError when
+// the first view has fewer than min_points points.
 MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
 // The merge of the original exploreTool, which made the robot's reconstructions, for judging the method on
