@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "cloud/free_space.hpp"
 #include "toolinc/ann/kdtree.hpp"
@@ -19,6 +20,13 @@ namespace {
 int accepted_views(const MergeResult& result) {
   return static_cast<int>(
       std::count_if(result.views.begin(), result.views.end(), [](const ViewMerge& v) { return v.accepted; }));
+}
+
+// How much of the tool a merge holds: its accepted views' points.
+long accepted_points(const MergeResult& result) {
+  long points = 0;
+  for (const auto& v : result.views) points += v.accepted ? v.points : 0;
+  return points;
 }
 
 // The accepted views' points, less those that are smear. At a depth edge stereo strings points along
@@ -189,7 +197,7 @@ MergeResult merge_views(const std::vector<PointCloud>& input, const MergeConfig&
   // A reference that most views do not fit (a wrong blob, a gross pose error) loses the good views with
   // it; one that some view does not fit may see less than that view (the head beyond a blob cut at a
   // depth edge lands mostly off the rest). Then the reference is the view that the most others fit, the
-  // earliest of equals.
+  // earliest of equals (revisit_views: of equals, the merge holding the most points).
   const int all = static_cast<int>(views.size());
   if (config.revisit_views ? accepted_views(best) == all : 2 * accepted_views(best) >= all) return best;
   MergeConfig quiet = config;
@@ -200,7 +208,12 @@ MergeResult merge_views(const std::vector<PointCloud>& input, const MergeConfig&
     for (std::size_t v = 0; v < views.size(); ++v)
       if (v != r) ordered.push_back(views[v]);
     MergeResult candidate = merge_onto_first(ordered, quiet);
-    if (accepted_views(candidate) <= accepted_views(best)) continue;
+    // revisit_views: of as many views fitting, the merge holding more of the tool (a view seeing the head,
+    // which the short views' model left out, against one of those short views).
+    const bool better = config.revisit_views ? std::pair{accepted_views(candidate), accepted_points(candidate)} >
+                                                   std::pair{accepted_views(best), accepted_points(best)}
+                                             : accepted_views(candidate) > accepted_views(best);
+    if (!better) continue;
     // Back to the input's order: ordered[0] is view r, ordered[k] view k - 1 below r and k above.
     std::vector<ViewMerge> in_order(views.size());
     for (std::size_t k = 0; k < ordered.size(); ++k) in_order[k == 0 ? r : (k <= r ? k - 1 : k)] = candidate.views[k];

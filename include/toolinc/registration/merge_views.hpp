@@ -61,7 +61,8 @@ struct MergeResult {
 // Views in the hand frame, with their viewpoints if known (carried into the model with the corrections).
 // The first view is the reference, unless fewer than half the views fit onto it (with revisit_views: unless
 // some view fits neither once nor when tried again after the later views): then the view that the most
-// others fit, the earliest of equals (results in the input's order all the same). Throws MethodError when
+// others fit, the earliest of equals (with revisit_views, of equals the merge holding the most points;
+// results in the input's order all the same). Throws MethodError when
 // the first view has fewer than min_points points.
 MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
