@@ -61,9 +61,9 @@ struct MergeResult {
 // Views in the hand frame, with their viewpoints if known (carried into the model with the corrections).
 // The first view is the reference, unless fewer than half the views fit onto it (with revisit_views: unless
 // some view fits neither once nor when tried again after the later views): then the view that the most
-// others fit, the earliest of equals (with revisit_views, of equals the merge holding the most points;
-// results in the input's order all the same). Throws MethodError when
-// the first view has fewer than min_points points.
+// others fit, the earliest of equals (with revisit_views, of equals the merge holding the most points).
+// The results are in the input's order all the same. Throws MethodError when the first view has fewer than
+// min_points points.
 MergeResult merge_views(const std::vector<PointCloud>& views, const MergeConfig& config = {});
 
 // The merge of the original exploreTool, which made the robot's reconstructions, for judging the method on
