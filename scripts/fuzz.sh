@@ -18,7 +18,8 @@ jobs=${FUZZ_JOBS:-$(nproc)}
 work=${FUZZ_WORK:-$build/fuzz-work}
 mkdir -p "$work"
 
-# One target; its verdict goes to $work/<target>.status (jobs in the background cannot set variables here).
+source scripts/run-each.sh
+
 fuzz_one() {
   local target=$1 corpus="$work/corpus/$1" start
   mkdir -p "$corpus"
@@ -31,26 +32,15 @@ fuzz_one() {
     local stats
     stats=$(grep -E '^stat::number_of_executed_units|^#[0-9]+.*DONE' "$work/$target.log" | tr '\n' ' ')
     echo "fuzz: $target ok, $(( $(date +%s) - start )) s: $stats"
-    echo ok >"$work/$target.status"
   else
     echo "fuzz: $target FAILED after $(( $(date +%s) - start )) s, see $work/$target.log" >&2
-    echo failed >"$work/$target.status"
+    return 1
   fi
 }
 
-for target in "${targets[@]}"; do
-  rm -f "$work/$target.status"
-  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
-  fuzz_one "$target" &
+run_each "$jobs" "$work" fuzz_one "${targets[@]}"
+for target in "${failed[@]}"; do
+  echo "fuzz: $target's finding:" >&2
+  tail -40 "$work/$target.log" >&2
 done
-wait
-
-failed=0
-for target in "${targets[@]}"; do
-  if [ "$(cat "$work/$target.status" 2>/dev/null)" != ok ]; then
-    failed=1
-    echo "fuzz: $target's finding:" >&2
-    tail -40 "$work/$target.log" >&2
-  fi
-done
-exit "$failed"
+[ ${#failed[@]} -eq 0 ]

@@ -4,7 +4,8 @@
 #   1. the Release build, warnings as errors, and every test (CTest: unit, integration, accuracy);
 #   2. scripts/slurm-check.sh: the Snakemake workflow through a real one-node Slurm;
 #   3. a second build with AddressSanitizer + UndefinedBehaviorSanitizer (Clang 14, no recovery, the
-#      library instrumented for libFuzzer too) and the `unit` tests there: the readers, writers, every
+#      library instrumented for libFuzzer too) and the `unit` tests there, each test runner whole
+#      (scripts/runner-tests.sh: a suite sets up once, not once per test): the readers, writers, every
 #      executable on good and bad input, and every fuzz target's seeds. The accuracy loops run in 1 only:
 #      they exercise no code the unit tests do not, and their bounds are about the method, not memory;
 #   4. every fuzz target of that build for FUZZ_SECONDS each (default 20) on its seed corpus.
@@ -59,9 +60,15 @@ if [ "${SANITIZE:-1}" != 0 ]; then
   # The unit tests that push whole batches of sessions or models through the executables (evaluate-sessions,
   # evaluate-poses, the workflow managers, every output against its schema, the shipped configs) run in the
   # Release pass only: under the sanitizers they took 16 of the pass's 33 CPU-minutes, on code the other unit
-  # tests run under the sanitizers too.
-  batches='^python_schemas$|EvaluateSessions|Snakemake\.(ThreeSessions|FailedSessions)|AppearanceCli\.(FeatureDatabaseRoundTrip|TrainThenClassify)|Realism\.ExecutableTables|EvaluatePoses\.TableAndJson|ConfigDefaults\.RecordShippedConfig'
-  timed "sanitizer tests" env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir "$sanitize" --output-on-failure -j "$(nproc)" -L unit -E "$batches"
+  # tests run under the sanitizers too. The GoogleTest runners run whole (scripts/runner-tests.sh), the other
+  # unit tests (each fuzz target on its seeds) through CTest.
+  batches='*EvaluateSessions*:Snakemake.ThreeSessions*:Snakemake.FailedSessions*:AppearanceCli.FeatureDatabaseRoundTrip*'
+  batches+=':AppearanceCli.TrainThenClassify*:Realism.ExecutableTables*:EvaluatePoses.TableAndJson*:ConfigDefaults.RecordShippedConfig*'
+  sanitized_tests() (
+    export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
+    scripts/runner-tests.sh "$sanitize" "-*Accuracy.*:$batches"
+    ctest --test-dir "$sanitize" --output-on-failure -j "$(nproc)" -L unit -R '^fuzz_'
+  )
+  timed "sanitizer tests" sanitized_tests
   timed "fuzzing" scripts/fuzz.sh "$sanitize" "${FUZZ_SECONDS:-20}"
 fi
