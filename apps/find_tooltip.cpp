@@ -21,10 +21,9 @@ int main(int argc, char** argv) {
     toolinc::share_hand_settings(frame_config, config);
     const auto frame = frame_file.empty() ? toolinc::ToolFrame{} : toolinc::read_tool_frame(frame_file);
     const auto cloud = toolinc::load_cloud(input);
-    const auto [used, tooltip] =
-        frame_file.empty()
-            ? toolinc::estimate_frame_and_tooltip(cloud.points, frame_config, config, cloud.viewpoints, cloud.views)
-            : toolinc::FrameAndTooltip{frame, toolinc::find_tooltip(cloud.points, frame, config, cloud.views)};
+    const auto [used, tooltip] = frame_file.empty()
+                                     ? toolinc::estimate_frame_and_tooltip(cloud, frame_config, config)
+                                     : toolinc::FrameAndTooltip{frame, toolinc::find_tooltip(cloud, frame, config)};
     spdlog::info("tooltip at ({:.4f}, {:.4f}, {:.4f}) m in the hand frame", tooltip.position.x(), tooltip.position.y(),
                  tooltip.position.z());
     toolinc::write_json(command.output(), toolinc::tooltip_json(tooltip, used, config));

@@ -375,6 +375,27 @@ FrameAndTooltip estimate_frame_and_tooltip(const Points& points, const ToolFrame
   return result;
 }
 
+void check_unmerged_views(Confidence& confidence, int unmerged_views) {
+  if (unmerged_views > 0)
+    confidence.check(0.0, fmt::format("{} of the views merged into the cloud did not fit it: what they alone saw "
+                                      "is missing from it",
+                                      unmerged_views));
+}
+
+FrameAndTooltip estimate_frame_and_tooltip(const PointCloud& cloud, const ToolFrameConfig& frame_config,
+                                           const TooltipConfig& tooltip_config) {
+  FrameAndTooltip result =
+      estimate_frame_and_tooltip(cloud.points, frame_config, tooltip_config, cloud.viewpoints, cloud.views);
+  check_unmerged_views(result.tooltip.confidence, cloud.unmerged_views);
+  return result;
+}
+
+Tooltip find_tooltip(const PointCloud& cloud, const ToolFrame& frame, const TooltipConfig& config) {
+  Tooltip tooltip = find_tooltip(cloud.points, frame, config, cloud.views);
+  check_unmerged_views(tooltip.confidence, cloud.unmerged_views);
+  return tooltip;
+}
+
 Tooltip find_tooltip(const TooltipCache& cache, const ToolFrame& frame) {
   const Points& points = cache.points();
   const KdTree& tree = cache.tree();

@@ -27,8 +27,7 @@ HeldToolErrors frame_and_tooltip_errors(const PointCloud& observed, const ToolGr
   HeldToolErrors errors;
   const Points& cloud = observed.points;
   try {
-    const auto [frame, tip] =
-        estimate_frame_and_tooltip(cloud, frame_config, tooltip_config, observed.viewpoints, observed.views);
+    const auto [frame, tip] = estimate_frame_and_tooltip(observed, frame_config, tooltip_config);
     errors.right_handed = is_rotation(frame.axes, 1e-9);
     errors.handle_axis_deg = handle_axis_error_deg(truth, frame.handle_axis());
     errors.effector_sign_right = frame.effector_axis().dot(truth.axes.col(0)) > 0;
@@ -103,7 +102,8 @@ MergedSession simulate_and_merge(const SessionSimulatorConfig& config, const Pip
     return m;
   }
   for (const auto& view : m.merged.views) m.views_rejected += !view.accepted;
-  if (pipeline.bare_model) m.merged.model.views.clear(), m.merged.model.viewpoints.clear();
+  if (pipeline.bare_model)
+    m.merged.model.views.clear(), m.merged.model.viewpoints.clear(), m.merged.model.unmerged_views = 0;
   m.relative = tool_ground_truth(m.canonical, tool_symmetry(config), tool_truth_tip(config),
                                  pose_on_merged_model(m.merged.model.points, m.canonical, config.hand_from_canonical));
   return m;
@@ -152,7 +152,8 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
       double error = std::numeric_limits<double>::infinity();
       bool backed = false;
       try {
-        const Tooltip tip = find_tooltip(tooltips, h.frame);
+        Tooltip tip = find_tooltip(tooltips, h.frame);
+        check_unmerged_views(tip.confidence, model.unmerged_views);
         error = tooltip_error(m.relative, tip.position);
         backed = tip.confidence.confident;
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be

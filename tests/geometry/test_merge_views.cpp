@@ -14,6 +14,7 @@
 #include "toolinc/ann/nearest_distance.hpp"
 #include "toolinc/cloud/preprocessing.hpp"
 #include "toolinc/core/error.hpp"
+#include "toolinc/frame/tooltip.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/registration/merge_views.hpp"
 
@@ -113,20 +114,30 @@ TEST(MergeViews, TheOriginalMergeKeepsTheRecordedPoses) {
   }
 }
 
+namespace {
+
+// Grasp g's five views, the third with a gross error: moved 15 cm (every third grasp) or turned 60 degrees.
+std::vector<PointCloud> views_with_a_gross_error(int g) {
+  const auto held = make_held_tool(g % 2 ? ToolFamily::hoe : ToolFamily::rake, 40u + g);
+  Rng rng(70u + g);
+  std::vector<PointCloud> views;
+  for (std::size_t k = 0; k < kViewDirections.size(); ++k) {
+    Eigen::Matrix4d error = perturbation(rng, 0.003, 1.5);
+    if (k == 2) error = error * rigid(0, Vec3::UnitX(), Vec3(0.15, 0, 0) * (g % 3 == 0 ? 1 : 0) + Vec3(0, 0, 0));
+    if (k == 2 && g % 3 != 0) error = error * rigid(60, Vec3(g, 1, 2), Vec3::Zero());
+    views.push_back(partial_view(held.model, held.grasp, kViewDirections[k].normalized(), error, rng));
+  }
+  return views;
+}
+
+}  // namespace
+
 TEST(MergeViews, GrossErrorsAreRejectedAndTheRestMerged) {
   for (int g = 0; g < 6; ++g) {
-    const auto held = make_held_tool(g % 2 ? ToolFamily::hoe : ToolFamily::rake, 40u + g);
-    Rng rng(70u + g);
-    std::vector<PointCloud> views;
-    for (std::size_t k = 0; k < kViewDirections.size(); ++k) {
-      Eigen::Matrix4d error = perturbation(rng, 0.003, 1.5);
-      if (k == 2) error = error * rigid(0, Vec3::UnitX(), Vec3(0.15, 0, 0) * (g % 3 == 0 ? 1 : 0) + Vec3(0, 0, 0));
-      if (k == 2 && g % 3 != 0) error = error * rigid(60, Vec3(g, 1, 2), Vec3::Zero());
-      views.push_back(partial_view(held.model, held.grasp, kViewDirections[k].normalized(), error, rng));
-    }
-    const MergeResult merged = merge_views(views);
+    const MergeResult merged = merge_views(views_with_a_gross_error(g));
     for (std::size_t k = 0; k < merged.views.size(); ++k)
       EXPECT_EQ(merged.views[k].accepted, k != 2) << "grasp " << g << " view " << k << ": " << merged.views[k].reason;
+    EXPECT_EQ(merged.model.unmerged_views, 1) << "grasp " << g;
   }
 }
 
@@ -270,6 +281,30 @@ TEST(MergeViews, ViewLabelsSurviveTheMergeAndAPlyRoundTrip) {
     const PointCloud back = read_cloud(path);
     EXPECT_EQ(back.views, merged.model.views) << path;
     EXPECT_EQ(back.size(), merged.model.size()) << path;
+    EXPECT_EQ(back.unmerged_views, 1) << path;
   }
   std::filesystem::remove_all(dir);
+}
+
+// A view left out of the model may have been the only one to see the head: whatever the frame and the
+// tooltip score, the tooltip on that model is doubtful, and says why. The same points as one whole model
+// carry no such doubt.
+TEST(MergeViews, ATooltipOnAModelAViewWasLeftOutOfIsDoubtful) {
+  const std::string why = "of the views merged into the cloud did not fit it";
+  for (int g = 0; g < 6; ++g) {
+    PointCloud model = merge_views(views_with_a_gross_error(g)).model;
+    ASSERT_EQ(model.unmerged_views, 1) << "grasp " << g;
+    const auto [frame, left_out] = estimate_frame_and_tooltip(model, {}, {});
+    EXPECT_FALSE(left_out.confidence.confident) << "grasp " << g;
+    const auto& doubts = left_out.confidence.doubts;
+    EXPECT_TRUE(std::any_of(doubts.begin(), doubts.end(), [&](const auto& d) { return d.find(why) != d.npos; }))
+        << "grasp " << g;
+    const Tooltip given_frame = find_tooltip(model, frame, {});
+    EXPECT_FALSE(given_frame.confidence.confident) << "grasp " << g;
+    EXPECT_EQ(given_frame.position, left_out.position) << "grasp " << g;
+    model.unmerged_views = 0;
+    const Tooltip whole = find_tooltip(model, frame, {});
+    EXPECT_EQ(whole.position, left_out.position) << "grasp " << g;
+    for (const auto& d : whole.confidence.doubts) EXPECT_EQ(d.find(why), d.npos) << "grasp " << g << ": " << d;
+  }
 }

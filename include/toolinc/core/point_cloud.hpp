@@ -21,6 +21,8 @@ struct PointCloud {
   Points viewpoints;                 // where sensors saw these points from, in the same frame (may be empty)
   std::vector<std::uint32_t> views;  // empty, or one per point: which of the views merged into this cloud saw
                                      // it, a bit per view (bit v: merge-views' input v)
+  int unmerged_views = 0;            // views merge-views was given and left out of this cloud (they did not
+                                     // fit): what they alone saw is missing from it
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

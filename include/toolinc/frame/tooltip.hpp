@@ -151,6 +151,14 @@ struct FrameAndTooltip {
 FrameAndTooltip estimate_frame_and_tooltip(const Points& points, const ToolFrameConfig& frame_config,
                                            TooltipConfig tooltip_config, const Points& viewpoints = {},
                                            const std::vector<std::uint32_t>& views = {});
+// A cloud that views were left out of (PointCloud::unmerged_views) may lack what they alone saw, the head
+// or its tip among it: a tooltip on it is doubtful, however well it scores.
+void check_unmerged_views(Confidence& confidence, int unmerged_views);
+// The same on a cloud as merge-views writes it: its viewpoints, views and unmerged views.
+FrameAndTooltip estimate_frame_and_tooltip(const PointCloud& cloud, const ToolFrameConfig& frame_config,
+                                           const TooltipConfig& tooltip_config);
+Tooltip find_tooltip(const PointCloud& cloud, const ToolFrame& frame, const TooltipConfig& config);
+
 // find_tooltip's position alone (nothing where it throws), without the noise, the tied points' spread and
 // the alternatives it measures around it: what the search needs of each hypothesis, at a fraction of the cost.
 std::optional<Vec3> tooltip_position(const TooltipCache& cache, const ToolFrame& frame);
