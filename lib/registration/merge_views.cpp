@@ -175,7 +175,7 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
     result.model.points.push_back(voxels[i]);
     if (!voxel_views.empty()) result.model.views.push_back(voxel_views[i]);
   }
-  for (const auto& merge : result.views) result.model.unmerged_views += !merge.accepted;
+  result.model.unmerged_views = static_cast<int>(result.views.size()) - accepted_views(result);
   for (const auto& view : aligned) {
     const Points moved = transform_points(view.viewpoints, result.hand_from_reference);
     result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());

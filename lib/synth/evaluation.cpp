@@ -101,7 +101,7 @@ MergedSession simulate_and_merge(const SessionSimulatorConfig& config, const Pip
     m.failure = e.what();
     return m;
   }
-  for (const auto& view : m.merged.views) m.views_rejected += !view.accepted;
+  m.views_rejected += m.merged.model.unmerged_views;
   if (pipeline.bare_model)
     m.merged.model.views.clear(), m.merged.model.viewpoints.clear(), m.merged.model.unmerged_views = 0;
   m.relative = tool_ground_truth(m.canonical, tool_symmetry(config), tool_truth_tip(config),
