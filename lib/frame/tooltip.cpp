@@ -377,8 +377,8 @@ FrameAndTooltip estimate_frame_and_tooltip(const Points& points, const ToolFrame
 
 void check_unmerged_views(Confidence& confidence, int unmerged_views) {
   if (unmerged_views > 0)
-    confidence.check(0.0, fmt::format("{} of the views merged into the cloud did not fit it: what they alone saw "
-                                      "is missing from it",
+    confidence.check(0.0, fmt::format("{} of the session's views are missing from the cloud (no tool found in "
+                                      "them, or they did not fit the others): what they alone saw is missing",
                                       unmerged_views));
 }
 

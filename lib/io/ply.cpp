@@ -37,6 +37,7 @@ struct PlyHeader {
   std::vector<PlyElement> elements;
   std::string frame;
   Points viewpoints;
+  int recorded_views = 0;
   int unmerged_views = 0;
   std::size_t data_offset = 0;
   std::size_t lines = 0;
@@ -45,8 +46,8 @@ struct PlyHeader {
 // What a vertex property means to us; kNone for properties we skip.
 enum Role { kX, kY, kZ, kRed, kGreen, kBlue, kNx, kNy, kNz, kViews, kRoleCount };
 constexpr int kNone = kRoleCount;
-// More views left out of one merge than any session records is no count but a corrupt file.
-constexpr double kMaxUnmergedViews = 1e6;
+// More views than any session records is no count but a corrupt file.
+constexpr double kMaxViews = 1e6;
 
 bool ply_scalar(std::string_view name, ScalarType& type) {
   static const std::pair<std::string_view, ScalarType> kTypes[] = {
@@ -85,11 +86,11 @@ Vec3 parse_viewpoint(const std::string& path, std::size_t line_number, const std
   return v;
 }
 
-// "comment unmerged-views N": how many views merge-views left out of the cloud, a whole number.
-int parse_unmerged_views(const std::string& path, std::size_t line_number, const std::vector<std::string_view>& words) {
+// "comment recorded-views N" and "comment unmerged-views N": a count of views, a whole number.
+int parse_view_count(const std::string& path, std::size_t line_number, const std::vector<std::string_view>& words) {
   double n = 0.0;
-  if (!parse_number(words[2], n) || !(n >= 0.0 && n <= kMaxUnmergedViews) || n != std::floor(n))
-    throw header_error(path, line_number, "bad unmerged-views comment (a whole number of views expected)");
+  if (!parse_number(words[2], n) || !(n >= 0.0 && n <= kMaxViews) || n != std::floor(n))
+    throw header_error(path, line_number, fmt::format("bad {} comment (a whole number of views expected)", words[1]));
   return static_cast<int>(n);
 }
 
@@ -154,8 +155,10 @@ PlyHeader parse_header(const std::string& path, std::string_view data) {
       if (words.size() >= 2 && words[1] == "frame") header.frame = words_from(words, 2);
       if (words.size() == 5 && words[1] == "viewpoint")
         header.viewpoints.push_back(parse_viewpoint(path, number, words));
+      if (words.size() == 3 && words[1] == "recorded-views")
+        header.recorded_views = parse_view_count(path, number, words);
       if (words.size() == 3 && words[1] == "unmerged-views")
-        header.unmerged_views = parse_unmerged_views(path, number, words);
+        header.unmerged_views = parse_view_count(path, number, words);
     } else if (words[0] == "element") {
       header.elements.push_back(parse_element(path, number, line, words));
     } else if (words[0] == "property") {
@@ -374,6 +377,7 @@ PointCloud parse_ply(const std::string& path, std::string_view data) {
   PointCloud cloud;
   cloud.frame = header.frame;
   cloud.viewpoints = header.viewpoints;
+  cloud.recorded_views = header.recorded_views;
   cloud.unmerged_views = header.unmerged_views;
   const std::string_view body = data.substr(header.data_offset);
   if (header.format == PlyFormat::Ascii) {
@@ -404,6 +408,7 @@ std::string ply_header(const PointCloud& cloud, const PlyWriteOptions& options) 
   if (!cloud.frame.empty()) header += "comment frame " + one_line(cloud.frame) + "\n";
   for (const auto& v : cloud.viewpoints)
     header += fmt::format("comment viewpoint {:.9g} {:.9g} {:.9g}\n", v.x(), v.y(), v.z());
+  if (cloud.recorded_views > 0) header += fmt::format("comment recorded-views {}\n", cloud.recorded_views);
   if (cloud.unmerged_views > 0) header += fmt::format("comment unmerged-views {}\n", cloud.unmerged_views);
   if (!options.command.empty()) header += "comment command " + one_line(options.command) + "\n";
   header += "element vertex " + std::to_string(cloud.size()) + "\n";

@@ -175,7 +175,11 @@ MergeResult merge_onto_first(const std::vector<PointCloud>& views, const MergeCo
     result.model.points.push_back(voxels[i]);
     if (!voxel_views.empty()) result.model.views.push_back(voxel_views[i]);
   }
-  result.model.unmerged_views = static_cast<int>(result.views.size()) - accepted_views(result);
+  // The views recorded: those given, or more when a view's session recorded more (views no tool was found in).
+  result.model.recorded_views = static_cast<int>(result.views.size());
+  for (const auto& view : views)
+    result.model.recorded_views = std::max(result.model.recorded_views, view.recorded_views);
+  result.model.unmerged_views = result.model.recorded_views - accepted_views(result);
   for (const auto& view : aligned) {
     const Points moved = transform_points(view.viewpoints, result.hand_from_reference);
     result.model.viewpoints.insert(result.model.viewpoints.end(), moved.begin(), moved.end());

@@ -366,6 +366,8 @@ Json merge_report_json(const std::vector<std::string>& inputs, const MergeResult
           {"views", views},
           {"hand_from_reference", to_json(merged.hand_from_reference)},
           {"model_points", merged.model.size()},
+          {"recorded_views", merged.model.recorded_views},
+          {"unmerged_views", merged.model.unmerged_views},
           {"settings", merge_settings}};
 }
 

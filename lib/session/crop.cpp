@@ -262,6 +262,7 @@ CropResult crop_view(const SessionInfo& session, const ViewRecord& record, const
     result.cloud.colors.push_back(kept.colors[i]);
   }
   result.cloud.viewpoints.push_back(rotation * record.root_from_camera.topRightCorner<3, 1>() + translation);
+  result.cloud.recorded_views = static_cast<int>(session.views.size());  // a merge missing some of them knows
   if (static_cast<int>(result.cloud.size()) < config.min_points)
     throw MethodError(
         fmt::format("{}: only {} tool points left after cropping (mask {} px, 3D {}, in box {}, "

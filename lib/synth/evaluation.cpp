@@ -101,9 +101,11 @@ MergedSession simulate_and_merge(const SessionSimulatorConfig& config, const Pip
     m.failure = e.what();
     return m;
   }
-  m.views_rejected += m.merged.model.unmerged_views;
-  if (pipeline.bare_model)
-    m.merged.model.views.clear(), m.merged.model.viewpoints.clear(), m.merged.model.unmerged_views = 0;
+  m.views_rejected = m.merged.model.unmerged_views;  // those the crop found no tool in among them
+  if (pipeline.bare_model) {
+    PointCloud& model = m.merged.model;
+    model.views.clear(), model.viewpoints.clear(), model.recorded_views = 0, model.unmerged_views = 0;
+  }
   m.relative = tool_ground_truth(m.canonical, tool_symmetry(config), tool_truth_tip(config),
                                  pose_on_merged_model(m.merged.model.points, m.canonical, config.hand_from_canonical));
   return m;

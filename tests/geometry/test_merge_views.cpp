@@ -281,6 +281,7 @@ TEST(MergeViews, ViewLabelsSurviveTheMergeAndAPlyRoundTrip) {
     const PointCloud back = read_cloud(path);
     EXPECT_EQ(back.views, merged.model.views) << path;
     EXPECT_EQ(back.size(), merged.model.size()) << path;
+    EXPECT_EQ(back.recorded_views, 5) << path;
     EXPECT_EQ(back.unmerged_views, 1) << path;
   }
   std::filesystem::remove_all(dir);
@@ -290,7 +291,7 @@ TEST(MergeViews, ViewLabelsSurviveTheMergeAndAPlyRoundTrip) {
 // tooltip score, the tooltip on that model is doubtful, and says why. The same points as one whole model
 // carry no such doubt.
 TEST(MergeViews, ATooltipOnAModelAViewWasLeftOutOfIsDoubtful) {
-  const std::string why = "of the views merged into the cloud did not fit it";
+  const std::string why = "of the session's views are missing from the cloud";
   for (int g = 0; g < 6; ++g) {
     PointCloud model = merge_views(views_with_a_gross_error(g)).model;
     ASSERT_EQ(model.unmerged_views, 1) << "grasp " << g;

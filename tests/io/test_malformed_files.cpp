@@ -100,11 +100,12 @@ TEST_F(MalformedCloud, BadPlyHeadersAreInputErrors) {
   expect_read_error(write("elem.ply", "ply\nformat ascii 1.0\nelement vertex many\nend_header\n"), "element");
   expect_read_error(write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n"),
                     "quad");
-  for (const char* count : {"-1", "2.5", "two", "1e9"})
-    expect_read_error(write("unmerged.ply", std::string("ply\nformat ascii 1.0\ncomment unmerged-views ") + count +
-                                                "\nelement vertex 1\nproperty float x\nproperty float y\n"
-                                                "property float z\nend_header\n1 2 3\n"),
-                      "bad unmerged-views comment");
+  for (const std::string keyword : {"recorded-views", "unmerged-views"})
+    for (const char* count : {"-1", "2.5", "two", "1e9"})
+      expect_read_error(write("count.ply", "ply\nformat ascii 1.0\ncomment " + keyword + " " + count +
+                                               "\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                               "property float z\nend_header\n1 2 3\n"),
+                        "bad " + keyword + " comment");
 }
 
 TEST_F(MalformedCloud, BadAsciiNumberNamesTheLine) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "support/paths.hpp"
 #include "support/run_tool.hpp"
@@ -453,6 +454,51 @@ TEST(SessionPipeline, CommandsFailCleanlyOnBadInput) {
   const Json report = read_json((dir / "r.json").string());
   EXPECT_FALSE(report["ok"].get<bool>());
   EXPECT_EQ(report["settings"]["min-points"], 250);
+}
+
+// A view crop-cloud finds no tool in never reaches merge-views, yet what it alone saw (the head, maybe) is
+// missing from the model as surely as a view that did not fit: each crop says how many views its session
+// recorded, the model how many of them it lacks, and the tooltip on it is doubtful and says why.
+TEST(SessionPipeline, AViewWithNoToolFoundMakesTheTooltipDoubtful) {
+  const auto dir = scratch_dir("session-view-missing");
+  ASSERT_EQ(run_tool("simulate-session", "-q --family hook --seed 3 -o " + (dir / "s").string()).exit_code, 0);
+  const std::string why = "of the session's views are missing from the cloud";
+  const auto tooltip_of = [&](const std::string& name) {
+    const std::string out = (dir / (name + "_out")).string();
+    EXPECT_EQ(run_tool("crop-cloud", "-q " + (dir / name).string() + " --all -o " + out + "/views").exit_code, 0);
+    std::string views;
+    for (const auto& entry : fs::directory_iterator(out + "/views")) views += " " + entry.path().string();
+    EXPECT_EQ(
+        run_tool("merge-views", "-q" + views + " -o " + out + "/model.ply --report " + out + "/merge.json").exit_code,
+        0);
+    EXPECT_EQ(run_tool("find-tooltip", "-q " + out + "/model.ply -o " + out + "/tooltip.json").exit_code, 0);
+    return std::pair{read_json(out + "/merge.json"), read_json(out + "/tooltip.json")};
+  };
+  fs::copy(dir / "s", dir / "missing", fs::copy_options::recursive);
+  {  // view 2 without a blob, a disparity or points: no tool is found in it
+    const SessionInfo info = read_session((dir / "missing").string());
+    const fs::path view = dir / "missing" / info.views[2].dir;
+    const cv::Mat zeros(info.camera.height, info.camera.width, CV_8UC1, cv::Scalar(0));
+    ASSERT_TRUE(cv::imwrite((view / "blob.png").string(), zeros));
+    ASSERT_TRUE(cv::imwrite((view / "disparity.png").string(), zeros));
+    fs::remove(view / "points.pcd");
+  }
+  const auto [merge, tooltip] = tooltip_of("missing");
+  EXPECT_EQ(merge["views"].size(), 4u);
+  EXPECT_EQ(merge["recorded_views"], 5);
+  const auto accepted = std::count_if(merge["views"].begin(), merge["views"].end(),
+                                      [](const Json& v) { return v["accepted"].get<bool>(); });
+  EXPECT_EQ(merge["unmerged_views"], 5 - accepted);
+  EXPECT_EQ(read_cloud((dir / "missing_out/views/view_000.ply").string()).recorded_views, 5);
+  EXPECT_EQ(read_cloud((dir / "missing_out/model.ply").string()).unmerged_views, merge["unmerged_views"].get<int>());
+  EXPECT_FALSE(tooltip["confidence"]["confident"].get<bool>());
+  EXPECT_NE(tooltip["confidence"]["doubts"].dump().find(why), std::string::npos) << tooltip["confidence"].dump();
+  // The whole session: every view recorded is in the model, and nothing of this doubt is said.
+  const auto [whole_merge, whole_tooltip] = tooltip_of("s");
+  EXPECT_EQ(whole_merge["recorded_views"], 5);
+  EXPECT_EQ(whole_merge["views"].size(), 5u);
+  ASSERT_EQ(whole_merge["unmerged_views"], 0);
+  EXPECT_EQ(whole_tooltip["confidence"]["doubts"].dump().find(why), std::string::npos);
 }
 
 TEST(SessionPipeline, MakefileRunsEveryStepOnEverySession) {

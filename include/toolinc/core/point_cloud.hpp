@@ -21,8 +21,9 @@ struct PointCloud {
   Points viewpoints;                 // where sensors saw these points from, in the same frame (may be empty)
   std::vector<std::uint32_t> views;  // empty, or one per point: which of the views merged into this cloud saw
                                      // it, a bit per view (bit v: merge-views' input v)
-  int unmerged_views = 0;            // views merge-views was given and left out of this cloud (they did not
-                                     // fit): what they alone saw is missing from it
+  int recorded_views = 0;            // how many views the session this cloud comes from recorded (0: unknown)
+  int unmerged_views = 0;            // views of that session missing from this cloud (no tool found in them, or
+                                     // they did not fit the others): what they alone saw is missing from it
 
   std::size_t size() const { return points.size(); }
   bool empty() const { return points.empty(); }

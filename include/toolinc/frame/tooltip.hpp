@@ -151,8 +151,8 @@ struct FrameAndTooltip {
 FrameAndTooltip estimate_frame_and_tooltip(const Points& points, const ToolFrameConfig& frame_config,
                                            TooltipConfig tooltip_config, const Points& viewpoints = {},
                                            const std::vector<std::uint32_t>& views = {});
-// A cloud that views were left out of (PointCloud::unmerged_views) may lack what they alone saw, the head
-// or its tip among it: a tooltip on it is doubtful, however well it scores.
+// A cloud that views of its session are missing from (PointCloud::unmerged_views) may lack what they alone saw, the
+// head or its tip among it: a tooltip on it is doubtful, however well it scores.
 void check_unmerged_views(Confidence& confidence, int unmerged_views);
 // The same on a cloud as merge-views writes it: its viewpoints, views and unmerged views.
 FrameAndTooltip estimate_frame_and_tooltip(const PointCloud& cloud, const ToolFrameConfig& frame_config,
