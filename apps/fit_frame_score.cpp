@@ -51,6 +51,8 @@ struct Choice {
   const toolinc::LabelledHypothesis* chosen;
   double probability;
 };
+// As estimate-frame chooses: the likeliest tip within radius, its probability the model's, within its
+// confident tolerance.
 Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypotheses, double radius) {
   std::vector<double> scores;
   std::vector<std::optional<toolinc::Vec3>> tooltips;
@@ -58,7 +60,7 @@ Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypothese
   for (const auto& h : hypotheses)
     scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip), sides.push_back(h.effector_side);
   const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, sides, radius);
-  return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, radius)};
+  return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, model.confident_tolerance)};
 }
 
 // Mean log-probability the model gives a session's right hypotheses (shared equally among them), over the
@@ -244,6 +246,7 @@ int main(int argc, char** argv) {
     const toolinc::ChoiceFit fit = toolinc::fit_choice_model(x, labels, groups, ridge);
     toolinc::FrameScoreModel model;
     for (int f = 0; f < toolinc::kFrameFeatures; ++f) model.weights[f] = fit.weights[f];
+    model.confident_tolerance = confident_tolerance;
 
     // On the sessions never fitted on: the chosen hypotheses' probabilities against their tooltips' errors;
     // the threshold on those whose other checks pass, as it is applied.

@@ -1177,11 +1177,13 @@ ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& 
                                               h.frame.handle_axis(), h.tooltip,
                                               std::vector<double>(h.features.begin(), h.features.end())});
     }
-    // The rules' doubts are the search's features and alternatives: the confidence is the chosen tooltip's
-    // probability, against the level calibrated, on sessions the fit did not see, for 98 % of confident
-    // tooltips within 15 mm.
-    const double probability = tooltip_probability(scores, tooltips, chosen, radius);
-    const double needed = fitted_frame_score().confident_probability;
+    // The rules' doubts are the search's features and alternatives: the confidence is the probability that
+    // the chosen tooltip lies within the confident tolerance (15 mm) of the truth, the hypotheses whose tips
+    // lie that near it summed, against the level calibrated so, on sessions the fit did not see, for 98 %
+    // of confident tooltips within it. The choice itself is the Bayes choice for the 10 mm a tool's use needs.
+    const FrameScoreModel& model = fitted_frame_score();
+    const double probability = tooltip_probability(scores, tooltips, chosen, model.confident_tolerance);
+    const double needed = model.confident_probability;
     frame.diagnostics.tooltip_probability = probability;
     frame.confidence.check(probability >= needed ? std::max((probability - needed) / std::max(1.0 - needed, 1e-9), 1e-9)
                                                  : probability - needed,

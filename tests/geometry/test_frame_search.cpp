@@ -221,8 +221,10 @@ TEST(FrameSearch, KeepsTheHypothesisWhoseTooltipIsLikeliest) {
   const std::size_t chosen = most_probable_tooltip(scores, tips, axes, TooltipConfig{}.ambiguity_distance);
   const ToolFrame frame = estimate_tool_frame(held.observed, config);
   EXPECT_TRUE(frame.axes.isApprox(hypotheses[chosen].frame.axes));
+  // The tip chosen for the 10 mm a tool's use needs; its probability, that of lying within the 15 mm a
+  // confident tooltip claims.
   EXPECT_NEAR(frame.diagnostics.tooltip_probability,
-              tooltip_probability(scores, tips, chosen, TooltipConfig{}.ambiguity_distance), 1e-12);
+              tooltip_probability(scores, tips, chosen, fitted_frame_score().confident_tolerance), 1e-12);
   // A model that scores only the effector's salience, against it: the least salient side wins.
   const std::size_t salience = feature_index("effector_reach_asymmetry");
   ASSERT_LT(salience, frame_feature_names().size());
@@ -244,6 +246,7 @@ TEST(FrameSearch, ShippedWeightsAreTheShippedFilesAndTheMethodIsRecorded) {
     EXPECT_DOUBLE_EQ(file.at("weights")[f].get<double>(), model.weights[f]) << frame_feature_names()[f];
   }
   EXPECT_DOUBLE_EQ(file.at("confident_probability").get<double>(), model.confident_probability);
+  EXPECT_DOUBLE_EQ(file.at("calibrated_on").at("confident_tolerance_m").get<double>(), model.confident_tolerance);
   const std::string cloud = std::string(kSourceDir) + "/data/held/hook.ply";
   const ToolRun run = run_tool("estimate-frame", "-q " + cloud + " --method search -o -");
   ASSERT_EQ(run.exit_code, 0) << run.err;

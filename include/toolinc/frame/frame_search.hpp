@@ -38,6 +38,9 @@ struct FrameScoreModel {
   std::array<double, kFrameFeatures> weights{};
   double confident_probability = 1.0;  // the chosen hypothesis is confident from this probability on,
                                        // calibrated on sessions the weights were not fitted on
+  double confident_tolerance = 0.015;  // m: what a confident tooltip claims, its error at most this: the
+                                       // probability calibrated is the share of the hypotheses whose tips
+                                       // lie within this of the chosen one
   double log_odds(const std::array<double, kFrameFeatures>& features) const;
 };
 
