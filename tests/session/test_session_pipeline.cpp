@@ -466,8 +466,12 @@ TEST(SessionPipeline, AViewWithNoToolFoundMakesTheTooltipDoubtful) {
   const auto tooltip_of = [&](const std::string& name) {
     const std::string out = (dir / (name + "_out")).string();
     EXPECT_EQ(run_tool("crop-cloud", "-q " + (dir / name).string() + " --all -o " + out + "/views").exit_code, 0);
+    // In name order, as the shell's glob gives them: the first is merge-views' reference.
+    std::vector<std::string> files;
+    for (const auto& entry : fs::directory_iterator(out + "/views")) files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end());
     std::string views;
-    for (const auto& entry : fs::directory_iterator(out + "/views")) views += " " + entry.path().string();
+    for (const auto& file : files) views += " " + file;
     EXPECT_EQ(
         run_tool("merge-views", "-q" + views + " -o " + out + "/model.ply --report " + out + "/merge.json").exit_code,
         0);
