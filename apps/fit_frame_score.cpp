@@ -55,12 +55,15 @@ struct Choice {
 // confident tolerance.
 Choice choose(const toolinc::FrameScoreModel& model, const Hypotheses& hypotheses, double radius) {
   std::vector<double> scores;
-  std::vector<std::optional<toolinc::Vec3>> tooltips;
+  std::vector<std::optional<toolinc::Vec3>> tooltips, other_ends;
   std::vector<toolinc::Vec3> sides;
-  for (const auto& h : hypotheses)
-    scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip), sides.push_back(h.effector_side);
+  for (const auto& h : hypotheses) {
+    scores.push_back(model.log_odds(h.features)), tooltips.push_back(h.tooltip), other_ends.push_back(h.other_end);
+    sides.push_back(h.effector_side);
+  }
   const std::size_t best = toolinc::most_probable_tooltip(scores, tooltips, sides, radius);
-  return {&hypotheses[best], toolinc::tooltip_probability(scores, tooltips, best, model.confident_tolerance)};
+  return {&hypotheses[best],
+          toolinc::tooltip_probability(scores, tooltips, best, model.confident_tolerance, other_ends)};
 }
 
 // Mean log-probability the model gives a session's right hypotheses (shared equally among them), over the

@@ -949,8 +949,10 @@ std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points&
       handle.held_off_line,         // the held part off it (the hand closes on the handle)
       f.symmetry_score,             // the head's mirror residual
       rules_plane ? 1.0 : 0.0,      // the plane the rules choose about this handle, not an alternative
-      // How much farther the effector reaches along +X than along -X, as a share of both (-1 to 1)
-      forward + backward > 0.0 ? (forward - backward) / (forward + backward) : 0.0,
+      // How much farther the effector reaches along +X than along -X, as a share of both (-1 to 1; a reach
+      // is negative where the whole effector side lies on the other side of the handle's line)
+      std::abs(forward) + std::abs(backward) > 0.0 ? (forward - backward) / (std::abs(forward) + std::abs(backward))
+                                                   : 0.0,
       // The head's edges rising towards +X (a scoop's concave side), saturating once clear of the noise
       std::tanh(f.diagnostics.head_curl / c.head_curl_min),
       head_out > 0.0 ? head_x / head_out : 0.0,  // the head's side
@@ -960,6 +962,35 @@ std::array<double, kFrameFeatures> features_of(const ToolFrame& f, const Points&
       // residual, a wrong one several times that, whatever the residual's own scale
       std::log(std::max(f.symmetry_score, kMirrorScoreFloor)),
   };
+}
+
+// The normal of the plane through the handle's axis that maps a frame's tooltip onto the tool's other end:
+// the plane a quarter turn from the symmetry plane (normal to the effector axis), refined by the mirror within
+// a sweep step, when the head mirrors across both planes as well as across the best plane about the handle
+// (within symmetry-tie-margin: a T, a flat top, whose two ends are alike). None for a tool with one end, for a
+// plane that mirrors it worse (a wrong plane's quarter turn may be as bad), and for a stick or a blade, whose
+// tip lies on that plane.
+std::optional<Vec3> other_end_mirror(const ToolFrame& frame, const AboutHandle& about, const ToolFrameConfig& c) {
+  if (frame.stick || frame.tip_at_far_end() || about.tied_planes.empty()) return std::nullopt;
+  const auto best = std::min_element(about.tied_planes.begin(), about.tied_planes.end(),
+                                     [](const auto& a, const auto& b) { return a.score < b.score; });
+  const double tie = best->score + c.symmetry_tie_margin;
+  if (frame.symmetry_score > tie) return std::nullopt;
+  const Vec3 x = frame.effector_axis();
+  const double quarter_turn = std::atan2(x.dot(about.v), x.dot(about.u));
+  // Refined only where the sweep scored an angle within a step of it near its best, as the sweep refines
+  // nothing else: a plane that far above it within a step is no tie.
+  double best_swept = std::numeric_limits<double>::infinity(), near_swept = best_swept;
+  for (const auto& s : about.sweep) {
+    best_swept = std::min(best_swept, s.score);
+    if (std::abs(std::remainder(s.angle_deg * kDeg - quarter_turn, M_PI)) <= about.step)
+      near_swept = std::min(near_swept, s.score);
+  }
+  if (near_swept > best_swept + kSweepRescoreMargin) return std::nullopt;
+  const auto [angle, score] = golden_minimum([&](double a) { return about.score_at(a); }, quarter_turn - about.step,
+                                             quarter_turn + about.step, kGoldenIterations);
+  if (score > tie) return std::nullopt;
+  return about.normal_at(angle);
 }
 
 // The planes the search tries about a handle: the rules' own, its quarter turn (a T or a flat top has
@@ -1006,19 +1037,35 @@ const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius
   if (all.empty()) return nullptr;
   const ScoredHypothesis& chosen = all.front();
   const auto elsewhere = std::find_if(all.begin() + 1, all.end(), [&](const ScoredHypothesis& h) {
-    return !h.tooltip || !chosen.tooltip || (*h.tooltip - *chosen.tooltip).norm() > radius;
+    return !h.tooltip || !chosen.tooltip ||
+           ((*h.tooltip - *chosen.tooltip).norm() > radius &&
+            !(chosen.other_end && (*h.tooltip - *chosen.other_end).norm() <= radius));
   });
   return elsewhere == all.end() ? nullptr : &*elsewhere;
 }
 
+namespace {
+
+// Whether hypothesis j's tooltip agrees with hypothesis i's: it lies within radius of i's tip or of i's other end.
+bool agrees(const std::vector<std::optional<Vec3>>& tooltips, const std::vector<std::optional<Vec3>>& other_ends,
+            std::size_t i, std::size_t j, double radius) {
+  if (!tooltips[i] || !tooltips[j]) return false;
+  if ((*tooltips[j] - *tooltips[i]).norm() <= radius) return true;
+  return !other_ends.empty() && other_ends[i] && (*tooltips[j] - *other_ends[i]).norm() <= radius;
+}
+
+}  // namespace
+
 double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
-                           std::size_t chosen, double radius) {
+                           std::size_t chosen, double radius, const std::vector<std::optional<Vec3>>& other_ends) {
+  if (tooltips.size() != scores.size() || (!other_ends.empty() && other_ends.size() != scores.size()))
+    throw std::invalid_argument("tooltip_probability: one tooltip (and other end, if any) per score");
   if (!tooltips[chosen]) return 0.0;
   double agreeing = 0.0, total = 0.0;
   for (std::size_t i = 0; i < scores.size(); ++i) {
     const double weight = std::exp(scores[i] - scores[chosen]);
     total += weight;
-    if (tooltips[i] && (*tooltips[i] - *tooltips[chosen]).norm() <= radius) agreeing += weight;
+    if (agrees(tooltips, other_ends, chosen, i, radius)) agreeing += weight;
   }
   return agreeing / total;
 }
@@ -1038,7 +1085,7 @@ std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::
   if (!tooltips[centre]) return centre;
   std::vector<std::size_t> agreeing;
   for (std::size_t i = 0; i < scores.size(); ++i)
-    if (tooltips[i] && (*tooltips[i] - *tooltips[centre]).norm() <= radius) agreeing.push_back(i);
+    if (agrees(tooltips, {}, centre, i, radius)) agreeing.push_back(i);
   // Of those, the side with the most probability, then its likeliest: its frame is the one to give. Each
   // side's sum runs over the same hypotheses in the same order, so a side's members tie exactly.
   std::size_t chosen = centre;
@@ -1109,18 +1156,28 @@ std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& cache, const T
     for (const double angle : alternative_planes_deg(rules))
       frames.push_back(
           as_hypothesis(frame_about_handle(p.frame, p.cloud, p.principal, handle, about, config, angle), config));
-    for (std::size_t plane = 0; plane < frames.size(); ++plane)
+    for (std::size_t plane = 0; plane < frames.size(); ++plane) {
+      const std::optional<Vec3> mirror_normal = other_end_mirror(frames[plane], about, config);
       for (const bool reversed : {false, true}) {
-        FrameHypothesis h{
-            reversed ? other_side(frames[plane]) : frames[plane], source, plane == 0, reversed, {}, 0.0, std::nullopt};
+        FrameHypothesis h{reversed ? other_side(frames[plane]) : frames[plane],
+                          source,
+                          plane == 0,
+                          reversed,
+                          {},
+                          0.0,
+                          std::nullopt,
+                          std::nullopt};
         h.features = features_of(h.frame, p.cloud, handle_measures, plane == 0, config);
         h.log_odds = model.log_odds(h.features);
         // None: nothing dense on its effector side. A stick's tip and a blade's far end do not depend on the
         // side (the rule ignores the effector axis, and the plane is the same), so the other side's is the one's.
         h.tooltip = reversed && (h.frame.stick || h.frame.tip_at_far_end()) ? hypotheses.back().tooltip
                                                                             : tooltip_position(cache, h.frame);
+        if (mirror_normal && h.tooltip)
+          h.other_end = *h.tooltip - 2.0 * mirror_normal->dot(*h.tooltip - about.centre) * *mirror_normal;
         hypotheses.push_back(std::move(h));
       }
+    }
   }
   return hypotheses;
 }
@@ -1153,10 +1210,12 @@ ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& 
   if (config.method == FrameMethod::search) {
     const auto hypotheses = frame_hypotheses(cache, config, viewpoints, fitted_frame_score());
     std::vector<double> scores;
-    std::vector<std::optional<Vec3>> tooltips;
+    std::vector<std::optional<Vec3>> tooltips, other_ends;
     std::vector<Vec3> sides;
-    for (const auto& h : hypotheses)
-      scores.push_back(h.log_odds), tooltips.push_back(h.tooltip), sides.push_back(effector_side(h.frame));
+    for (const auto& h : hypotheses) {
+      scores.push_back(h.log_odds), tooltips.push_back(h.tooltip), other_ends.push_back(h.other_end);
+      sides.push_back(effector_side(h.frame));
+    }
     const double radius = cache.config().ambiguity_distance;
     const std::size_t chosen = most_probable_tooltip(scores, tooltips, sides, radius);
     // The chosen first, then by score.
@@ -1174,15 +1233,16 @@ ToolFrame estimate_tool_frame(const TooltipCache& cache, const ToolFrameConfig& 
       const FrameHypothesis& h = hypotheses[i];
       frame.diagnostics.hypotheses.push_back({h.handle_source, h.rules_plane, h.side_reversed,
                                               std::exp(h.log_odds - best.log_odds) / total, h.frame.effector_axis(),
-                                              h.frame.handle_axis(), h.tooltip,
+                                              h.frame.handle_axis(), h.tooltip, h.other_end,
                                               std::vector<double>(h.features.begin(), h.features.end())});
     }
     // The rules' doubts are the search's features and alternatives: the confidence is the probability that
     // the chosen tooltip lies within the confident tolerance (15 mm) of the truth, the hypotheses whose tips
-    // lie that near it summed, against the level calibrated so, on sessions the fit did not see, for 98 %
-    // of confident tooltips within it. The choice itself is the Bayes choice for the 10 mm a tool's use needs.
+    // lie that near it or its other end (either end of a T is right) summed, against the level calibrated so, on
+    // sessions the fit did not see, for 98 % of confident tooltips within it. The choice itself is the Bayes choice for
+    // the 10 mm a tool's use needs.
     const FrameScoreModel& model = fitted_frame_score();
-    const double probability = tooltip_probability(scores, tooltips, chosen, model.confident_tolerance);
+    const double probability = tooltip_probability(scores, tooltips, chosen, model.confident_tolerance, other_ends);
     const double needed = model.confident_probability;
     frame.diagnostics.tooltip_probability = probability;
     frame.confidence.check(probability >= needed ? std::max((probability - needed) / std::max(1.0 - needed, 1e-9), 1e-9)

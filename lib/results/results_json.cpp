@@ -109,6 +109,7 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
                             {"effector_axis", to_json(h.effector_axis)},
                             {"handle_axis", to_json(h.handle_axis)},
                             {"tooltip", h.tooltip ? to_json(*h.tooltip) : Json()},
+                            {"other_end", h.other_end ? to_json(*h.other_end) : Json()},
                             {"features", features}});
     }
     json["diagnostics"]["hypotheses"] = hypotheses;
@@ -205,6 +206,7 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
       s.handle_axis = vector3_field(h, "handle_axis", path);
       if (!h.contains("tooltip")) throw InputError(path, "diagnostics.hypotheses: a hypothesis lacks its tooltip");
       if (!h["tooltip"].is_null()) s.tooltip = vector3_field(h, "tooltip", path);
+      if (h.contains("other_end") && !h["other_end"].is_null()) s.other_end = vector3_field(h, "other_end", path);
       frame.diagnostics.hypotheses.push_back(std::move(s));
     }
     if (diagnostics.contains("tooltip_probability") && diagnostics["tooltip_probability"].is_number())

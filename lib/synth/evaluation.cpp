@@ -161,8 +161,8 @@ std::vector<LabelledHypothesis> labelled_frame_hypotheses(const SessionSimulator
       } catch (const MethodError&) {  // no tip on this hypothesis's effector side: as wrong as can be
       }
       const bool effector_right = !salient || h.frame.effector_axis().dot(m.relative.axes.col(0)) > 0;
-      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, effector_side(h.frame), error,
-                          effector_right, handle_axis_error_deg(m.relative, h.frame.handle_axis()), backed});
+      labelled.push_back({h.features, h.handle_source, h.side_reversed, h.tooltip, h.other_end, effector_side(h.frame),
+                          error, effector_right, handle_axis_error_deg(m.relative, h.frame.handle_axis()), backed});
     }
   } catch (const MethodError&) {  // a degenerate merged model: nothing to learn from
     labelled.clear();

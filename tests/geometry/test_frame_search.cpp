@@ -19,6 +19,7 @@
 #include "toolinc/frame/frame_search.hpp"
 #include "toolinc/frame/tooltip.hpp"
 #include "toolinc/io/json_file.hpp"
+#include "toolinc/results/results_json.hpp"
 
 using namespace toolinc;
 using namespace toolinc::testing;
@@ -168,6 +169,63 @@ TEST(FrameSearch, TheTooltipsProbabilityIsTheShareOfTheHypothesesAgreeingOnIt) {
   const std::vector<std::optional<Vec3>> one_missing{std::nullopt, Vec3(0.105, 0, 0), Vec3(0.2, 0, 0)};
   EXPECT_EQ(tooltip_probability(scores, one_missing, 0, 0.01), 0.0);
   EXPECT_NEAR(tooltip_probability(scores, one_missing, 1, 0.01), 0.25, 1e-12);
+}
+
+// Either end of a T is its tip: a hypothesis at the chosen one's other end agrees with it, one elsewhere does not.
+TEST(FrameSearch, HypothesesAtTheOtherEndOfATwoEndedToolAgreeOnItsTip) {
+  const std::vector<double> scores{std::log(3.0), std::log(2.0), std::log(2.0), 0.0};
+  const std::vector<std::optional<Vec3>> tips{Vec3(0.1, -0.2, 0), Vec3(-0.1, -0.2, 0), Vec3(0.1, -0.2, 0.003),
+                                              Vec3(0.0, -0.25, 0)};
+  // Each end's other end is the tip mirrored across x = 0; the last hypothesis's tool has one end.
+  const std::vector<std::optional<Vec3>> ends{Vec3(-0.1, -0.2, 0), Vec3(0.1, -0.2, 0), Vec3(-0.1, -0.2, 0.003),
+                                              std::nullopt};
+  EXPECT_NEAR(tooltip_probability(scores, tips, 0, 0.01), 5.0 / 8.0, 1e-12);
+  EXPECT_NEAR(tooltip_probability(scores, tips, 0, 0.01, ends), 7.0 / 8.0, 1e-12);
+  EXPECT_NEAR(tooltip_probability(scores, tips, 1, 0.01, ends), 7.0 / 8.0, 1e-12);
+  EXPECT_NEAR(tooltip_probability(scores, tips, 3, 0.01, ends), 1.0 / 8.0, 1e-12);
+  EXPECT_THROW(tooltip_probability(scores, tips, 0, 0.01, {std::nullopt}), std::invalid_argument);
+}
+
+// On held T-bars and flat tops the search finds the other end where the truth has its second tip; on tools
+// with one end (hoes, hooks, rakes) it finds none. The noise (1.5 mm) and the plane's refinement (within a
+// degree) move a mirrored tip by a few millimetres; 10 mm is the tooltip tolerance.
+TEST(FrameSearch, FindsTheOtherEndOfTwoEndedToolsOnly) {
+  for (const ToolFamily family :
+       {ToolFamily::t_bar, ToolFamily::flat_top, ToolFamily::hoe, ToolFamily::hook, ToolFamily::rake})
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+      const HeldToolCase held = make_held_tool(family, seed);
+      const auto hypotheses = frame_hypotheses(held.observed);
+      int with_end = 0, right = 0;
+      for (const auto& h : hypotheses) {
+        if (!h.other_end) continue;
+        ++with_end;
+        const double to_tip = (*h.tooltip - held.truth.tooltips.front()).norm();
+        if (held.truth.tooltips.size() == 2 && to_tip <= 0.01)
+          right += (*h.other_end - held.truth.tooltips.back()).norm() <= 0.01;
+        else if (held.truth.tooltips.size() == 2 && (*h.tooltip - held.truth.tooltips.back()).norm() <= 0.01)
+          right += (*h.other_end - held.truth.tooltips.front()).norm() <= 0.01;
+      }
+      if (held.truth.tooltips.size() == 1) {
+        EXPECT_EQ(with_end, 0) << to_string(family) << " seed " << seed;
+      } else {
+        EXPECT_GT(right, 0) << to_string(family) << " seed " << seed;
+      }
+    }
+  // The frame's record keeps each hypothesis's other end, through its JSON.
+  ToolFrameConfig search;
+  search.method = FrameMethod::search;
+  const ToolFrame frame = estimate_tool_frame(make_held_tool(ToolFamily::t_bar, 1).observed, search);
+  const ToolFrame read = tool_frame_from_json(tool_frame_json(frame, search), "t-bar.json");
+  ASSERT_EQ(read.diagnostics.hypotheses.size(), frame.diagnostics.hypotheses.size());
+  int ends = 0;
+  for (std::size_t i = 0; i < read.diagnostics.hypotheses.size(); ++i) {
+    const auto& end = frame.diagnostics.hypotheses[i].other_end;
+    ASSERT_EQ(read.diagnostics.hypotheses[i].other_end.has_value(), end.has_value());
+    if (!end) continue;
+    ++ends;
+    EXPECT_TRUE(read.diagnostics.hypotheses[i].other_end->isApprox(*end, 1e-12));
+  }
+  EXPECT_GT(ends, 0);
 }
 
 TEST(FrameSearch, TheChoiceIsTheTipWithTheMostProbabilityThenItsLikeliestHypothesis) {

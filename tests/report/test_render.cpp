@@ -159,6 +159,10 @@ TEST(Render, SearchedFrameMarksTheNextTipElsewhere) {
   // A hypothesis agreeing on the tip (within 10 mm) is not another tip.
   scene.frame->diagnostics.hypotheses[1].tooltip = *scene.tooltip + Vec3(0.005, 0.0, 0.0);
   EXPECT_FALSE(has_colour(render_scene(scene), kRenderNextTip));
+  // Nor is one at a two-ended tool's other end.
+  scene.frame->diagnostics.hypotheses[1].tooltip = *next.tooltip;
+  scene.frame->diagnostics.hypotheses[0].other_end = *next.tooltip + Vec3(0.0, 0.005, 0.0);
+  EXPECT_FALSE(has_colour(render_scene(scene), kRenderNextTip));
   EXPECT_FALSE(has_colour(render_scene(hoe_scene()), kRenderNextTip));
 }
 

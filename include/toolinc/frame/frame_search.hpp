@@ -30,6 +30,10 @@ struct FrameHypothesis {
   std::array<double, kFrameFeatures> features{};
   double log_odds = 0.0;        // the fitted model's score
   std::optional<Vec3> tooltip;  // by the paper's rule (find-tooltip's defaults); none without one
+  // Where the tool's other end puts the same tip, when the head mirrors across the plane through the handle's
+  // axis normal to X as well as across its symmetry plane (within symmetry-tie-margin: a T, a flat top): the
+  // tooltip mirrored across that plane, as right as the tooltip itself. None for a tool with one end.
+  std::optional<Vec3> other_end;
 };
 
 // The fitted choice model: a hypothesis's score is weights . features, its probability its share of
@@ -49,9 +53,11 @@ const FrameScoreModel& fitted_frame_score();
 
 // The probability of the chosen hypothesis's tooltip: the share of exp(score) of every hypothesis whose
 // tooltip lies within `radius` of it (hypotheses that disagree on the frame may agree on the tip: a
-// scoop's either side, a handle fitted two ways). 0 when the chosen one has no tooltip.
+// scoop's either side, a handle fitted two ways) or of the chosen one's other end (other_ends: one per
+// hypothesis, FrameHypothesis::other_end, or empty for none: either end of a T is its tip). 0 when the
+// chosen one has no tooltip.
 double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
-                           std::size_t chosen, double radius);
+                           std::size_t chosen, double radius, const std::vector<std::optional<Vec3>>& other_ends = {});
 
 // The side a hypothesis puts the effector on, as most_probable_tooltip compares them: its effector axis,
 // or none (zero) for a stick, whose effector axis is arbitrary.
@@ -63,7 +69,8 @@ Vec3 effector_side(const ToolFrame& frame);
 // sides, one per hypothesis, within 90 degrees of one another; none agrees with either: on either side
 // of a blade's or a scoop's plane the tip is its far end, so the tip does not tell the side, and the
 // side's own evidence is summed as the tip's is); and of those the likeliest, whose frame is then the best
-// for that tip. Several hypotheses that agree outweigh a likelier one alone.
+// for that tip. Several hypotheses that agree outweigh a likelier one alone. A two-ended tool's other end
+// does not count here: a wrong plane's tip may have its mirror image on the right one, and be chosen for it.
 std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
                                   const std::vector<Vec3>& effector_sides, double radius);
 

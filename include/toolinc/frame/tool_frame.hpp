@@ -130,8 +130,9 @@ struct ScoredHypothesis {
   bool other_side = false;    // the effector on the other side from the one the rules take about that handle
   double probability = 0.0;   // that it is the right one among the hypotheses, as the fitted choice model says
   Vec3 effector_axis = Vec3::Zero(), handle_axis = Vec3::Zero();
-  std::optional<Vec3> tooltip;   // its tooltip by the paper's rule, when it has one
-  std::vector<double> features;  // what the choice model weighed, in frame_feature_names()'s order
+  std::optional<Vec3> tooltip;    // its tooltip by the paper's rule, when it has one
+  std::optional<Vec3> other_end;  // where a two-ended tool's other end puts it (FrameHypothesis::other_end)
+  std::vector<double> features;   // what the choice model weighed, in frame_feature_names()'s order
 };
 
 // How the frame was found: for the record (the tool_frame JSON's diagnostics), not for use.
@@ -199,9 +200,9 @@ struct Reach {
 Reach effector_reach(const Points& cloud, const Vec3& centre, const Vec3& handle_point, const Vec3& y_axis,
                      const Vec3& x_axis, double q);
 
-// The searched frame's best hypothesis whose tooltip lies farther than `radius` from the chosen one's
-// (or that has none): what a doubtful search was torn between. Null for a frame made by the rules, or
-// when every hypothesis agrees on the tip.
+// The searched frame's best hypothesis whose tooltip lies farther than `radius` from the chosen one's and
+// from its other end (or that has none): what a doubtful search was torn between. Null for a frame made by the rules,
+// or when every hypothesis agrees on the tip.
 const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius);
 
 // points: the tool in the hand frame (the hand at the origin). viewpoints (optional): where the sensors

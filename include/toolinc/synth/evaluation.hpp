@@ -89,6 +89,7 @@ struct LabelledHypothesis {
   std::string handle_source;
   bool side_reversed = false;
   std::optional<Vec3> tooltip;        // hand frame
+  std::optional<Vec3> other_end;      // hand frame, as FrameHypothesis::other_end
   Vec3 effector_side = Vec3::Zero();  // hand frame, as frame_search.hpp's effector_side
   double tooltip_m = 0.0;
   // The effector along the true +X, or the tool has no salient effector (a stick, a T): a scoop's tip is
