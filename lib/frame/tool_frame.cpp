@@ -976,8 +976,9 @@ std::optional<Vec3> other_end_mirror(const ToolFrame& frame, const AboutHandle& 
                                      [](const auto& a, const auto& b) { return a.score < b.score; });
   const double tie = best->score + c.symmetry_tie_margin;
   if (frame.symmetry_score > tie) return std::nullopt;
-  const Vec3 x = frame.effector_axis();
-  const double quarter_turn = std::atan2(x.dot(about.v), x.dot(about.u));
+  // As alternative_planes_deg asks for it: about the rules' plane, the search's quarter turn, whose mirror
+  // scores are then known.
+  const double quarter_turn = (frame.diagnostics.symmetry_candidates.back().angle_deg + 90.0) * kDeg;
   // Refined only where the sweep scored an angle within a step of it near its best, as the sweep refines
   // nothing else: a plane that far above it within a step is no tie.
   double best_swept = std::numeric_limits<double>::infinity(), near_swept = best_swept;
