@@ -213,7 +213,7 @@ double SymmetryScorer::score(const Vec3& normal, const Vec3& point_on_plane, std
 
 SymmetryScorer::Image SymmetryScorer::image(std::uint32_t index, const Vec3& normal, const Vec3& point_on_plane) const {
   const Vec3& p = target_.points()[index];
-  const Vec3 mirrored = p - 2.0 * normal.dot(p - point_on_plane) * normal;
+  const Vec3 mirrored = mirror_image(p, normal, point_on_plane);
   const auto nearest = target_.nearest(mirrored);
   if (nearest.index != KdTree::npos) {
     double distance = std::sqrt(nearest.distance2);

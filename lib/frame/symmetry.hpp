@@ -63,6 +63,11 @@ class MirrorTarget {
   std::vector<std::uint8_t> points_near_;
 };
 
+// p's mirror image across the plane through point_on_plane with the unit normal.
+inline Vec3 mirror_image(const Vec3& p, const Vec3& normal, const Vec3& point_on_plane) {
+  return p - 2.0 * normal.dot(p - point_on_plane) * normal;
+}
+
 class SymmetryScorer {
  public:
   // target: the resampled cloud (which must outlive the scorer); the scorer mirrors an evenly spaced subset

@@ -1033,29 +1033,27 @@ const std::array<const char*, kFrameFeatures>& frame_feature_names() {
   return names;
 }
 
+namespace {
+
+// Whether a tooltip agrees with a chosen one: both exist and it lies within radius of the chosen tip or of
+// the chosen one's other end.
+bool agrees(const std::optional<Vec3>& tip, const std::optional<Vec3>& chosen, const std::optional<Vec3>& other_end,
+            double radius) {
+  if (!tip || !chosen) return false;
+  return (*tip - *chosen).norm() <= radius || (other_end && (*tip - *other_end).norm() <= radius);
+}
+
+}  // namespace
+
 const ScoredHypothesis* next_tip_elsewhere(const ToolFrame& frame, double radius) {
   const auto& all = frame.diagnostics.hypotheses;
   if (all.empty()) return nullptr;
   const ScoredHypothesis& chosen = all.front();
   const auto elsewhere = std::find_if(all.begin() + 1, all.end(), [&](const ScoredHypothesis& h) {
-    return !h.tooltip || !chosen.tooltip ||
-           ((*h.tooltip - *chosen.tooltip).norm() > radius &&
-            !(chosen.other_end && (*h.tooltip - *chosen.other_end).norm() <= radius));
+    return !agrees(h.tooltip, chosen.tooltip, chosen.other_end, radius);
   });
   return elsewhere == all.end() ? nullptr : &*elsewhere;
 }
-
-namespace {
-
-// Whether hypothesis j's tooltip agrees with hypothesis i's: it lies within radius of i's tip or of i's other end.
-bool agrees(const std::vector<std::optional<Vec3>>& tooltips, const std::vector<std::optional<Vec3>>& other_ends,
-            std::size_t i, std::size_t j, double radius) {
-  if (!tooltips[i] || !tooltips[j]) return false;
-  if ((*tooltips[j] - *tooltips[i]).norm() <= radius) return true;
-  return !other_ends.empty() && other_ends[i] && (*tooltips[j] - *other_ends[i]).norm() <= radius;
-}
-
-}  // namespace
 
 double tooltip_probability(const std::vector<double>& scores, const std::vector<std::optional<Vec3>>& tooltips,
                            std::size_t chosen, double radius, const std::vector<std::optional<Vec3>>& other_ends) {
@@ -1066,7 +1064,8 @@ double tooltip_probability(const std::vector<double>& scores, const std::vector<
   for (std::size_t i = 0; i < scores.size(); ++i) {
     const double weight = std::exp(scores[i] - scores[chosen]);
     total += weight;
-    if (agrees(tooltips, other_ends, chosen, i, radius)) agreeing += weight;
+    if (agrees(tooltips[i], tooltips[chosen], other_ends.empty() ? std::nullopt : other_ends[chosen], radius))
+      agreeing += weight;
   }
   return agreeing / total;
 }
@@ -1086,7 +1085,7 @@ std::size_t most_probable_tooltip(const std::vector<double>& scores, const std::
   if (!tooltips[centre]) return centre;
   std::vector<std::size_t> agreeing;
   for (std::size_t i = 0; i < scores.size(); ++i)
-    if (agrees(tooltips, {}, centre, i, radius)) agreeing.push_back(i);
+    if (agrees(tooltips[i], tooltips[centre], std::nullopt, radius)) agreeing.push_back(i);
   // Of those, the side with the most probability, then its likeliest: its frame is the one to give. Each
   // side's sum runs over the same hypotheses in the same order, so a side's members tie exactly.
   std::size_t chosen = centre;
@@ -1174,8 +1173,7 @@ std::vector<FrameHypothesis> frame_hypotheses(const TooltipCache& cache, const T
         // side (the rule ignores the effector axis, and the plane is the same), so the other side's is the one's.
         h.tooltip = reversed && (h.frame.stick || h.frame.tip_at_far_end()) ? hypotheses.back().tooltip
                                                                             : tooltip_position(cache, h.frame);
-        if (mirror_normal && h.tooltip)
-          h.other_end = *h.tooltip - 2.0 * mirror_normal->dot(*h.tooltip - about.centre) * *mirror_normal;
+        if (mirror_normal && h.tooltip) h.other_end = mirror_image(*h.tooltip, *mirror_normal, about.centre);
         hypotheses.push_back(std::move(h));
       }
     }
