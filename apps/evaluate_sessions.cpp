@@ -194,6 +194,7 @@ int main(int argc, char** argv) {
              {"symmetry_plane_error_deg", e.tool.symmetry_plane_deg},
              {"effector_sign_right", e.tool.effector_sign_right},
              {"confident", e.tool.confident},
+             {"tooltip_probability", e.tool.tooltip_probability},
              {"model_median_m", e.model_median_m},
              {"views_rejected", e.views_rejected},
              {"failure", e.tool.failure}});

@@ -34,6 +34,7 @@ HeldToolErrors frame_and_tooltip_errors(const PointCloud& observed, const ToolGr
     errors.tooltip_m = tooltip_error(truth, tip.position);
     errors.tooltip_relative_m = tooltip_error(relative, tip.position);
     errors.confident = tip.confidence.confident;
+    errors.tooltip_probability = frame.diagnostics.tooltip_probability;
     errors.symmetry_plane_deg =
         std::acos(std::min(1.0, std::abs(frame.symmetry_axis().dot(truth.axes.col(2))))) * 180.0 / M_PI;
     // The true axes and origin; whether the tool is a stick (no head) is the tool's, as the estimate saw it.

@@ -19,6 +19,7 @@
 #include "toolinc/core/random.hpp"
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/core/statistics.hpp"
+#include "toolinc/frame/frame_search.hpp"
 #include "toolinc/io/cloud_io.hpp"
 #include "toolinc/io/json_file.hpp"
 #include "toolinc/registration/merge_views.hpp"
@@ -164,6 +165,15 @@ TEST(SessionPipeline, EvaluateSessionsReportsThePipelinesErrors) {
     EXPECT_EQ(s["failure"], e.tool.failure);
     EXPECT_EQ(s["tooltip_error_m"].get<double>(), e.tool.tooltip_m);
     EXPECT_EQ(s["model_median_m"].get<double>(), e.model_median_m);
+    EXPECT_EQ(s["confident"].get<bool>(), e.tool.confident);
+    EXPECT_EQ(s["tooltip_probability"].get<double>(), e.tool.tooltip_probability);
+    if (e.tool.failure.empty()) {
+      EXPECT_GT(e.tool.tooltip_probability, 0.0);  // the search's: some hypothesis has the chosen tooltip
+      EXPECT_LE(e.tool.tooltip_probability, 1.0);
+    }
+    if (e.tool.confident) {
+      EXPECT_GE(e.tool.tooltip_probability, fitted_frame_score().confident_probability);
+    }
     within += e.tool.tooltip_m <= 0.010;
   }
   EXPECT_NE(serial.out.find("all: tooltip within 10 mm in " + std::to_string(within) + " of 4 sessions"),

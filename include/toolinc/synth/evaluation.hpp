@@ -31,8 +31,9 @@ struct HeldToolErrors {
   // no frame rule can see. The same as tooltip_m for a held tool's cloud, which nothing moved.
   double tooltip_relative_m = 0.0;
   double symmetry_plane_deg = 0.0;
-  bool confident = false;  // the tooltip's confidence.confident
-  std::string failure;     // the MethodError's reason when the method failed, else empty
+  bool confident = false;          // the tooltip's confidence.confident
+  double tooltip_probability = 0;  // the search's probability of the chosen tooltip (0 by the rules)
+  std::string failure;             // the MethodError's reason when the method failed, else empty
 };
 
 // Holds `canonical` with `grasp`, removes the hand's points, adds noise, runs estimate_tool_frame and
