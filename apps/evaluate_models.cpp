@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <map>
 
@@ -17,9 +18,15 @@
 
 namespace {
 
+// The chosen tooltip's probability is tallied in these bins, each with how many of its tooltips lie within
+// 15 mm: the confidence's calibration on the cases.
+constexpr std::array<double, 7> kProbabilityEdges{0.0, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0};
+constexpr std::size_t kProbabilityBins = kProbabilityEdges.size() - 1;
+
 struct Tally {
   int cases = 0, failed = 0, within_10 = 0, handle_within_3 = 0, left_handed = 0, salient = 0, sign_right = 0;
   int confident = 0, confident_within_15 = 0;
+  std::array<int, kProbabilityBins> bin_cases{}, bin_within_15{};
   std::vector<double> tips;
   double worst_handle = 0.0;
 
@@ -35,6 +42,11 @@ struct Tally {
     left_handed += !e.right_handed;
     confident += e.confident;
     confident_within_15 += e.confident && e.tooltip_m <= 0.015;
+    const auto upper =
+        std::upper_bound(kProbabilityEdges.begin() + 1, kProbabilityEdges.end() - 1, e.tooltip_probability);
+    const auto bin = static_cast<std::size_t>(upper - kProbabilityEdges.begin() - 1);
+    ++bin_cases[bin];
+    bin_within_15[bin] += e.tooltip_m <= 0.015;
     worst_handle = std::max(worst_handle, e.handle_axis_deg);
     if (mirror) ++salient, sign_right += e.effector_sign_right;
   }
@@ -50,6 +62,11 @@ void print_row(std::FILE* out, const std::string& name, const std::string& detai
 }
 
 toolinc::Json tally_json(const std::string& key, const std::string& name, const Tally& t) {
+  toolinc::Json bins = toolinc::Json::array();
+  for (std::size_t b = 0; b < kProbabilityBins; ++b)
+    bins.push_back({{"probability", {kProbabilityEdges[b], kProbabilityEdges[b + 1]}},
+                    {"cases", t.bin_cases[b]},
+                    {"tooltip_within_15mm", t.bin_within_15[b]}});
   return {{key, name},
           {"cases", t.cases},
           {"failed", t.failed},
@@ -62,7 +79,8 @@ toolinc::Json tally_json(const std::string& key, const std::string& name, const 
           {"effector_sign_right", t.sign_right},
           {"salient_cases", t.salient},
           {"confident", t.confident},
-          {"confident_tooltip_within_15mm", toolinc::rate_json(name, t.confident_within_15, t.confident)}};
+          {"confident_tooltip_within_15mm", toolinc::rate_json(name, t.confident_within_15, t.confident)},
+          {"probability_bins", bins}};
 }
 
 }  // namespace

@@ -82,6 +82,28 @@ TEST(ModelKinds, EvaluateModelsReportsEveryKindWithItsInterval) {
   }
   EXPECT_EQ(json["all"]["cases"], 36);
   EXPECT_NE(run.out.find("plate"), std::string::npos);
+
+  // The probability bins cover 0 to 1 in order, hold every case that did not fail, and the kinds' add up to
+  // all's; a bin's tooltips within 15 mm are among its cases.
+  const auto& all_bins = json["all"]["probability_bins"];
+  ASSERT_FALSE(all_bins.empty());
+  EXPECT_EQ(all_bins.front()["probability"][0].get<double>(), 0.0);
+  EXPECT_EQ(all_bins.back()["probability"][1].get<double>(), 1.0);
+  int binned = 0, within_15 = 0;
+  for (std::size_t b = 0; b < all_bins.size(); ++b) {
+    const auto& bin = all_bins[b];
+    if (b > 0) {
+      EXPECT_EQ(bin["probability"][0], all_bins[b - 1]["probability"][1]);
+    }
+    EXPECT_LE(bin["tooltip_within_15mm"].get<int>(), bin["cases"].get<int>());
+    int of_kinds = 0;
+    for (const auto& kind : json["kinds"]) of_kinds += kind["probability_bins"][b]["cases"].get<int>();
+    EXPECT_EQ(of_kinds, bin["cases"].get<int>());
+    binned += bin["cases"].get<int>();
+    within_15 += bin["tooltip_within_15mm"].get<int>();
+  }
+  EXPECT_EQ(binned, json["all"]["cases"].get<int>() - json["all"]["failed"].get<int>());
+  EXPECT_GE(within_15, json["all"]["tooltip_within_10mm"]["successes"].get<int>());
 }
 
 TEST(ModelKinds, EvaluateSessionsOfModelsPerKind) {
