@@ -38,6 +38,14 @@ namespace {
 // How many views a bit mask of views names.
 int views_in(std::uint32_t mask) { return static_cast<int>(std::bitset<32>(mask).count()); }
 
+// Where a blade's far end is measured from: the point of the handle's axis line nearest the hand. A hand
+// holds the handle a few centimetres off its axis; measured from the hand itself, the far end of a wide or
+// pointed blade would turn towards the corner opposite the hand.
+Vec3 far_end_centre(const ToolFrame& frame) {
+  const Vec3 y = frame.handle_axis();
+  return frame.handle_point - frame.handle_point.dot(y) * y;
+}
+
 // One application of the rule on one frame: the chosen point, the tied points and their tie-breaks.
 struct Pick {
   std::uint32_t chosen = KdTree::npos;
@@ -55,12 +63,15 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   // The density check needs a radius search, so it runs lazily, best candidates first.
   const auto dense = [&](std::uint32_t i) { return cache.dense(i) && (!with_views || cache.seen_by_enough(i)); };
   const auto front = [&](std::uint32_t i) { return (points[i] - frame.origin).dot(x); };
+  const Vec3 centre = far_end_centre(frame);
+  const auto from_centre = [&](std::uint32_t i) { return (points[i] - centre).norm(); };
   // A stick's effector axis is arbitrary (nothing stands out from its handle), so "in front" means
   // nothing there: its tip is its far end, along the handle away from the hand.
-  // A blade or scoop continuing the handle works with its far end: the farthest from the hand.
+  // A blade or scoop continuing the handle works with its far end: the farthest from the handle's axis
+  // where the hand holds it (far_end_centre).
   const auto primary = [&](std::uint32_t i, double along) {
     if (frame.stick) return -along;
-    if (frame.tip_at_far_end()) return cache.from_hand(i);
+    if (frame.tip_at_far_end()) return from_centre(i);
     return config.rule == TooltipRule::furthest
                ? front(i)
                : config.effector_weight * front(i) + (1.0 - config.effector_weight) * cache.from_hand(i);
@@ -118,12 +129,13 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   // times that noise; the mean's noise is about 3 times smaller. On a smooth surface its bias is second
   // order in the neighbourhood's size; at an edge (a hoe blade's bottom corner) it is first order and
   // draws the choice up the front by about a neighbourhood's radius.
-  // far end: among points tied at the far end, how far a point lies from the hand varies more with its
-  // distance from the line through the hand along the handle than with its noise along it: that distance,
+  // far end: among points tied at the far end, how far a point lies from far_end_centre varies more with
+  // its distance from the handle's line through it than with its noise along it: that distance,
   // averaged over the same neighbours, decides (a scoop's rim corner, as the rule says).
   // A stick's: the middle of its far end, the tied point nearest their centroid.
   const auto across_handle = [&](std::uint32_t i) {
-    return (points[i] - points[i].dot(frame.handle_axis()) * frame.handle_axis()).norm();
+    const Vec3 d = points[i] - centre;
+    return (d - d.dot(y) * y).norm();
   };
   Vec3 end_centre = Vec3::Zero();
   for (auto i : p.tied) end_centre += points[i] / static_cast<double>(p.tied.size());
@@ -159,8 +171,8 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
 // moves the rule's choice.
 Vec3 rule_direction(const Vec3& point, const ToolFrame& frame, const TooltipConfig& config) {
   if (frame.stick) return -frame.handle_axis();
+  if (frame.tip_at_far_end()) return (point - far_end_centre(frame)).normalized();
   const Vec3 from_hand = point.normalized();
-  if (frame.tip_at_far_end()) return from_hand;
   if (config.rule == TooltipRule::furthest) return frame.effector_axis();
   return (config.effector_weight * frame.effector_axis() + (1.0 - config.effector_weight) * from_hand).normalized();
 }

@@ -45,6 +45,7 @@ Json tool_frame_json(const ToolFrame& frame, const ToolFrameConfig& config) {
       {"version", 1},
       {"frame", "hand"},
       {"origin", to_json(frame.origin)},
+      {"handle_point", to_json(frame.handle_point)},
       {"effector_axis", to_json(frame.effector_axis())},
       {"handle_axis", to_json(frame.handle_axis())},
       {"symmetry_axis", to_json(frame.symmetry_axis())},
@@ -135,6 +136,9 @@ ToolFrame tool_frame_from_json(const Json& json, const std::string& path) {
   ToolFrame frame;
   frame.axes = rotation;
   frame.origin = matrix.topRightCorner<3, 1>();
+  // A file without the handle's point (written before it was recorded) takes the handle's axis through the
+  // origin, which lies in the symmetry plane that contains it.
+  frame.handle_point = json.contains("handle_point") ? vector3_field(json, "handle_point", path) : frame.origin;
   // The rule that chose the symmetry plane and the planes tied with it, when the file has them, so
   // find-tooltip can say what they give.
   const Json none;

@@ -41,6 +41,7 @@ HeldToolErrors frame_and_tooltip_errors(const PointCloud& observed, const ToolGr
     ToolFrame true_frame;
     true_frame.axes = truth.axes;
     true_frame.origin = truth.origin;
+    true_frame.handle_point = truth.hand_from_canonical.topRightCorner<3, 1>();  // the handle's end, on its axis
     true_frame.stick = frame.stick;
     true_frame.head_kind = frame.head_kind;
     try {

@@ -17,6 +17,7 @@
 #include "toolinc/core/rigid.hpp"
 #include "toolinc/frame/tool_frame.hpp"
 #include "toolinc/frame/tooltip.hpp"
+#include "toolinc/results/results_json.hpp"
 #include "toolinc/synth/evaluation.hpp"
 
 using namespace toolinc;
@@ -493,6 +494,37 @@ TEST(TooltipEdge, ScoopTipIsTheFarEdgesRimCornerNotTheFringeInItsMiddle) {
   EXPECT_NEAR(tip.position.x(), depth, 0.005) << "tip at " << tip.position.transpose();
   EXPECT_NEAR(tip.position.y(), far_end, 0.005) << "tip at " << tip.position.transpose();
   EXPECT_EQ(tip.position.z(), 0.0);
+}
+
+// A hand holds the handle off its axis: here 6 cm to the side of a blade 12 cm wide whose far edge comes to
+// a point over its last 2 cm. From the hand, the corner on the other side where the point begins lies as
+// far (259 mm) as the point (257 mm), and the tie would go to the corner, 2 cm short of the far end and 6 cm
+// to the side; from the handle's axis, the point is the far end by 12 mm (250 against 238). The frame's
+// JSON keeps the handle's point, so find-tooltip given the file finds the same tip.
+TEST(TooltipEdge, ABladesFarEndIsMeasuredFromTheHandlesAxisNotTheHand) {
+  const double side = 0.06, half_width = 0.06, far_end = -0.25, taper = 0.02;
+  for (std::uint32_t seed = 1; seed <= 5; ++seed) {
+    Rng rng(seed);
+    Points blade;
+    for (double y = -0.10; y >= far_end; y -= 0.001) {
+      const double half = y >= far_end + taper ? half_width : half_width * (y - far_end) / taper;
+      for (double z = -half; z <= half + 1e-9; z += 0.001)
+        blade.push_back(Vec3(rng.uniform(-0.001, 0.001), y + rng.uniform(-0.001, 0.001), side + z));
+    }
+    ToolFrame frame;
+    frame.origin = Vec3(0.0, -0.17, side);
+    frame.handle_point = Vec3(0.0, -0.05, side);
+    frame.head_kind = HeadKind::blade;
+    // The rule's point, before the projection onto the symmetry plane and the edge's retreat (a point's
+    // apex is as sparse as a fringe, FringeRetreatsTowardsTheEdge...): on the point, within the tie
+    // (tie-tolerance, 5 mm) of its apex, where the tie-break takes the widest, not at the corner.
+    const Tooltip tip = find_tooltip(blade, frame);
+    EXPECT_NEAR(tip.surface_point.y(), far_end, 0.006) << "seed " << seed << ", at " << tip.surface_point.transpose();
+    EXPECT_NEAR(tip.surface_point.z(), side, 0.03) << "seed " << seed << ", at " << tip.surface_point.transpose();
+    const ToolFrame read = tool_frame_from_json(tool_frame_json(frame, ToolFrameConfig{}), "blade.json");
+    EXPECT_TRUE(read.handle_point.isApprox(frame.handle_point, 1e-12));
+    EXPECT_TRUE(find_tooltip(blade, read).position.isApprox(tip.position, 1e-9)) << "seed " << seed;
+  }
 }
 
 // Stereo smears a plate seen face-on into a tail behind it, as deep as the gap to the background: at the
