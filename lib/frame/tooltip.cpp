@@ -133,10 +133,8 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame, bool with_views) {
   // its distance from the handle's line through it than with its noise along it: that distance,
   // averaged over the same neighbours, decides (a scoop's rim corner, as the rule says).
   // A stick's: the middle of its far end, the tied point nearest their centroid.
-  const auto across_handle = [&](std::uint32_t i) {
-    const Vec3 d = points[i] - centre;
-    return (d - d.dot(y) * y).norm();
-  };
+  const Cylinder handle_line{centre, y, 0.0, 0.0};
+  const auto across_handle = [&](std::uint32_t i) { return radial_distance(handle_line, points[i]); };
   Vec3 end_centre = Vec3::Zero();
   for (auto i : p.tied) end_centre += points[i] / static_cast<double>(p.tied.size());
   double best = -std::numeric_limits<double>::infinity();
