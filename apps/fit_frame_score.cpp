@@ -1,10 +1,10 @@
 // fit-frame-score [--families F...] [--first-seed S] [--grasps N] [--calibration-first-seed S]
-// [--calibration-grasps N] [--stereo M] [-j J] -o SCORE.json: fits the frame search's score (frame_search.hpp)
-// on simulated sessions of the generated families. Every frame hypothesis on each session's merged model is
-// labelled right when its tooltip lies within --tip-tolerance of the truth carried by the true model aligned
-// onto the merge, on a tool with a salient effector its effector points the true way, and its handle lies
-// within --handle-tolerance of its session's best candidate's; a choice model of the hypotheses' features is fitted so
-// that each session's right ones are the likely ones. On sessions of other seeds, never fitted on, the chosen
+// [--calibration-grasps N] [--calibration-reconstructions R...] [--stereo M] [-j J] -o SCORE.json: fits the frame
+// search's score (frame_search.hpp) on simulated sessions of the generated families. Every frame hypothesis on each
+// session's merged model is labelled right when its tooltip lies within --tip-tolerance of the truth carried by the
+// true model aligned onto the merge, on a tool with a salient effector its effector points the true way, and its handle
+// lies within --handle-tolerance of its session's best candidate's; a choice model of the hypotheses' features is
+// fitted so that each session's right ones are the likely ones. On sessions of other seeds, never fitted on, the chosen
 // hypotheses' probabilities are compared with how often their tooltips were right (the calibration table),
 // and the probability from which 98 % of the chosen tooltips that find-tooltip's other checks pass (only those
 // can be called confident) lie within 15 mm becomes the confidence threshold.
@@ -108,13 +108,13 @@ int main(int argc, char** argv) {
                            {"estimate-frame", "find-tooltip", "fit-frame-score"});
   std::vector<std::string> family_names;
   std::uint32_t first_seed = 1000, calibration_first_seed = 2000;
-  int grasps = 16, calibration_grasps = 8;
+  int grasps = 16, calibration_grasps = 32;
   double tip_tolerance = 0.010, handle_tolerance = 3.0, confident_tolerance = 0.015, precision = 0.98, ridge = 0.01;
   bool belly_behind = true;
   unsigned jobs = 1;
   toolinc::PipelineConfig pipeline;
   std::string rule, stereo = "elas", compare, hypotheses_csv;
-  std::vector<std::string> reconstructions{"registered"};
+  std::vector<std::string> reconstructions{"registered"}, calibration_reconstructions{"registered", "original"};
   auto& cli = command.cli();
   cli.add_option("--families", family_names, "Tool families (default: all)");
   cli.add_option("--first-seed", first_seed,
@@ -154,7 +154,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"ideal", "sgbm", "elas"}))
       ->capture_default_str();
   cli.add_option("--reconstructions", reconstructions,
-                 "Each session fitted and calibrated on as each of these models (evaluate-sessions --reconstruction)")
+                 "Each session fitted on as each of these models (evaluate-sessions --reconstruction)")
+      ->check(CLI::IsMember({"registered", "original"}))
+      ->capture_default_str();
+  cli.add_option("--calibration-reconstructions", calibration_reconstructions,
+                 "Each session calibrated on as each of these models: the confidence must hold on merges made as the "
+                 "robot's were (original) as well as registered ones")
       ->check(CLI::IsMember({"registered", "original"}))
       ->capture_default_str();
   cli.add_option("-j,--jobs", jobs, "Sessions simulated in parallel (the fit does not depend on it)")
@@ -164,8 +169,8 @@ int main(int argc, char** argv) {
                  "A score JSON (configs/frame-score.json) whose mean log-likelihood on the same hypotheses is "
                  "reported beside the fit's (compared.mean_log_likelihood)");
   cli.add_option("--hypotheses", hypotheses_csv,
-                 "CSV of every labelled hypothesis (set, family, seed, handle, side reversed, tooltip error, "
-                 "features), to study the features");
+                 "CSV of every labelled hypothesis (set, family, seed, reconstruction, handle, side reversed, "
+                 "tooltip error, features), to study the features");
   command.add_output("The fitted score JSON (- for stdout)");
   toolinc::add_tool_frame_options(cli, pipeline.frame);
   toolinc::add_tooltip_options(cli, pipeline.tooltip, rule);
@@ -197,15 +202,15 @@ int main(int argc, char** argv) {
     const toolinc::PipelineConfig original = toolinc::as_original_reconstruction(pipeline);
     const Rightness is_right{tip_tolerance, handle_tolerance};
     std::vector<Case> cases;
-    const auto add_cases = [&](std::uint32_t first, int count) {
+    const auto add_cases = [&](std::uint32_t first, int count, const std::vector<std::string>& as) {
       for (const auto family : families)
         for (int g = 0; g < count; ++g)
-          for (const auto& r : reconstructions)
+          for (const auto& r : as)
             cases.push_back({family, first + static_cast<std::uint32_t>(g), r == "original" ? &original : &pipeline});
     };
-    add_cases(first_seed, grasps);
+    add_cases(first_seed, grasps, reconstructions);
     const std::size_t fitted = cases.size();
-    add_cases(calibration_first_seed, calibration_grasps);
+    add_cases(calibration_first_seed, calibration_grasps, calibration_reconstructions);
     std::vector<Hypotheses> labelled(cases.size());
     toolinc::run_in_parallel(cases.size(), jobs, toolinc::Progress("labelling frame hypotheses"), [&](std::size_t i) {
       toolinc::SessionSimulatorConfig session = toolinc::family_session(cases[i].family, cases[i].seed);
@@ -218,14 +223,16 @@ int main(int argc, char** argv) {
       labelled[i] = toolinc::labelled_frame_hypotheses(session, *cases[i].pipeline);
     });
     if (!hypotheses_csv.empty()) {
-      std::string csv = "set,family,seed,handle,side_reversed,tooltip_m,effector_right,handle_deg,backed";
+      std::string csv =
+          "set,family,seed,reconstruction,handle,side_reversed,tooltip_m,effector_right,handle_deg,backed";
       for (const char* name : toolinc::frame_feature_names()) csv += std::string(",") + name;
       csv += "\n";
       for (std::size_t i = 0; i < cases.size(); ++i)
         for (const auto& h : labelled[i]) {
-          csv += fmt::format("{},{},{},\"{}\",{},{},{},{},{}", i < fitted ? "fit" : "calibration",
-                             toolinc::to_string(cases[i].family), cases[i].seed, h.handle_source, int{h.side_reversed},
-                             h.tooltip_m, int{h.effector_right}, h.handle_deg, int{h.backed});
+          csv += fmt::format("{},{},{},{},\"{}\",{},{},{},{},{}", i < fitted ? "fit" : "calibration",
+                             toolinc::to_string(cases[i].family), cases[i].seed,
+                             cases[i].pipeline == &original ? "original" : "registered", h.handle_source,
+                             int{h.side_reversed}, h.tooltip_m, int{h.effector_right}, h.handle_deg, int{h.backed});
           for (const double f : h.features) csv += fmt::format(",{}", f);
           csv += "\n";
         }
@@ -319,6 +326,7 @@ int main(int argc, char** argv) {
          {"calibrated_on",
           {{"first_seed", calibration_first_seed},
            {"grasps", calibration_grasps},
+           {"reconstructions", calibration_reconstructions},
            {"confident_tolerance_m", confident_tolerance},
            {"precision", precision}}},
          {"hypotheses", rows.size()},

@@ -6,8 +6,10 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <optional>
 #include <set>
+#include <sstream>
 
 #include "support/paths.hpp"
 #include "support/run_tool.hpp"
@@ -320,7 +322,7 @@ TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
   // likelihood barely moves: the shipped model's mean log-likelihood per hypothesis fell short of the
   // refit's by 0 in a GCC build and 0.001 in a Clang build; the bound is 0.005. A change to the features,
   // the frame or the simulator without a refit moves it further. The likelihood is the fitted sessions'
-  // alone, so one calibration grasp (not the file's) spares the calibration sessions' time.
+  // alone, so one calibration grasp of one merge (not the file's) spares the calibration sessions' time.
   const std::string shipped = std::string(kSourceDir) + "/configs/frame-score.json";
   const Json file = read_json(shipped);
   const Json &on = file.at("fitted_on"), &calibrated = file.at("calibrated_on");
@@ -328,20 +330,43 @@ TEST(FrameSearchAccuracy, FitFrameScoreReproducesTheShippedFile) {
   for (const auto& f : on.at("families")) families += " " + f.get<std::string>();
   for (const auto& r : on.at("reconstructions")) reconstructions += " " + r.get<std::string>();
   const auto dir = scratch_dir("fit-frame-score");
-  const ToolRun run =
-      run_tool("fit-frame-score",
-               "-q -j 2 --families" + families + " --first-seed " + std::to_string(on.at("first_seed").get<int>()) +
-                   " --grasps " + std::to_string(on.at("grasps").get<int>()) + " --reconstructions" + reconstructions +
-                   " --calibration-first-seed " + std::to_string(calibrated.at("first_seed").get<int>()) +
-                   " --calibration-grasps 1 --stereo " + on.at("stereo").get<std::string>() + " --tip-tolerance " +
-                   std::to_string(on.at("tip_tolerance_m").get<double>()) + " --handle-tolerance " +
-                   std::to_string(on.at("handle_tolerance_deg").get<double>()) +
-                   (on.at("belly_behind").get<bool>() ? " --belly-behind" : " --no-belly-behind") + " --compare " +
-                   shipped + " -o " + (dir / "score.json").string());
+  const ToolRun run = run_tool(
+      "fit-frame-score",
+      "-q -j 2 --families" + families + " --first-seed " + std::to_string(on.at("first_seed").get<int>()) +
+          " --grasps " + std::to_string(on.at("grasps").get<int>()) + " --reconstructions" + reconstructions +
+          " --calibration-first-seed " + std::to_string(calibrated.at("first_seed").get<int>()) +
+          " --calibration-grasps 1 --calibration-reconstructions registered --stereo " +
+          on.at("stereo").get<std::string>() + " --tip-tolerance " +
+          std::to_string(on.at("tip_tolerance_m").get<double>()) + " --handle-tolerance " +
+          std::to_string(on.at("handle_tolerance_deg").get<double>()) +
+          (on.at("belly_behind").get<bool>() ? " --belly-behind" : " --no-belly-behind") + " --compare " + shipped +
+          " --hypotheses " + (dir / "hypotheses.csv").string() + " -o " + (dir / "score.json").string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const Json refit = read_json((dir / "score.json").string());
   const double best = refit.at("mean_log_likelihood").get<double>();
   const double of_shipped = refit.at("compared").at("mean_log_likelihood").get<double>();
   EXPECT_LE(of_shipped, best + 1e-12);
   EXPECT_GT(of_shipped, best - 0.005) << "the shipped weights no longer fit what the command labels";
+  // What each set was merged as is recorded: in the file, and per hypothesis in the CSV.
+  EXPECT_EQ(refit.at("calibrated_on").at("reconstructions"), Json::array({"registered"}));
+  EXPECT_EQ(refit.at("fitted_on").at("reconstructions"), on.at("reconstructions"));
+  std::ifstream csv(dir / "hypotheses.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line.rfind("set,family,seed,reconstruction,", 0), 0u) << line;
+  std::set<std::string> merges;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> fields;
+    std::stringstream row(line);
+    for (std::string field; fields.size() < 4 && std::getline(row, field, ',');) fields.push_back(field);
+    ASSERT_EQ(fields.size(), 4u) << line;
+    if (fields[0] == "calibration") {
+      EXPECT_EQ(fields[3], "registered") << line;
+    } else {
+      merges.insert(fields[3]);
+    }
+  }
+  std::set<std::string> fitted;
+  for (const auto& r : on.at("reconstructions")) fitted.insert(r.get<std::string>());
+  EXPECT_EQ(merges, fitted);
 }
