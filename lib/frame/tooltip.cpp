@@ -165,16 +165,6 @@ Pick pick(const TooltipCache& cache, const ToolFrame& frame) {
   return p;
 }
 
-// The direction in which the rule's score grows fastest at point: where a fringe beyond the surface
-// moves the rule's choice.
-Vec3 rule_direction(const Vec3& point, const ToolFrame& frame, const TooltipConfig& config) {
-  if (frame.stick) return -frame.handle_axis();
-  if (frame.tip_at_far_end()) return (point - far_end_centre(frame)).normalized();
-  const Vec3 from_hand = point.normalized();
-  if (config.rule == TooltipRule::furthest) return frame.effector_axis();
-  return (config.effector_weight * frame.effector_axis() + (1.0 - config.effector_weight) * from_hand).normalized();
-}
-
 // How far apart edge_retreat measures the density along its line, and how many steps back it goes.
 double retreat_step(const TooltipConfig& config) { return config.tip_edge_radius / 5.0; }
 int retreat_steps(const TooltipConfig& config) {
@@ -241,25 +231,40 @@ double across_blade_spread(const Points& points, const ToolFrame& f, const Vec3&
   return quantile(across, 0.9) - quantile(across, 0.1);
 }
 
+// The way a fringe runs out of the surface at a tip projected onto f's symmetry plane (point: the surface
+// point it came from). A blade's far end is the farthest from the handle's axis, and only a fringe reaching
+// farther from it moves that choice: its way is radial. Any other tip's way runs from the surface's mass,
+// the centroid of the projected points within fringe-depth of it: the weighted rule likes distance from the
+// hand as well as distance in front, so it also takes smear running along the handle off a head's edge
+// (below a rake's teeth or a hoe's blade), which lies off the front, and back along the rule's gradient
+// (mostly along the effector axis) the way would stay in that smear. At a front face or a stick's far end
+// the two agree. Zero where nothing else lies within reach.
+Vec3 outwards(const Vec3& point, const Vec3& on_plane, const ToolFrame& f, const Points& near, double depth) {
+  if (f.tip_at_far_end()) {
+    Vec3 radial = point - far_end_centre(f);
+    radial -= radial.dot(f.symmetry_axis()) * f.symmetry_axis();
+    return radial.norm() < 1e-9 ? Vec3::Zero() : Vec3(radial.normalized());
+  }
+  Vec3 sum = Vec3::Zero();
+  std::size_t n = 0;
+  for (const auto& q : near)
+    if ((q - on_plane).squaredNorm() <= depth * depth) sum += q, ++n;
+  const Vec3 direction = n > 0 ? Vec3(on_plane - sum / static_cast<double>(n)) : Vec3::Zero();
+  return direction.norm() < 1e-9 ? Vec3::Zero() : Vec3(direction.normalized());
+}
+
 // The rule's tips at these surface points, each projected onto f's symmetry plane and moved back off the
 // fringe to the surface's edge (and how far, in retreats). The edge is sought among the points projected
 // there too: the head's whole width piles up on the plane, so a lobe of fringe at one side of it is sparse
-// against it. Only the projected points within reach of the search (fringe-depth behind a tip, then
-// tip-edge-radius around, with a margin for the steps' rounding) can count, so only those are indexed.
+// against it. Only the projected points within reach of the search (fringe-depth from a tip, then
+// tip-edge-radius around, with a margin for the steps' rounding) can count, so only those are kept.
 std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const std::vector<Vec3>& surface_points,
                                  const TooltipConfig& config, std::vector<double>* retreats = nullptr) {
-  const Vec3 z = f.symmetry_axis();
-  std::vector<Vec3> on_plane, directions;
+  const double depth = std::max(0.0, config.fringe_depth);
+  std::vector<Vec3> on_plane;
   Eigen::AlignedBox3d reach;
-  for (const auto& point : surface_points) {
-    Vec3 direction = rule_direction(point, f, config);
-    direction -= direction.dot(z) * z;
-    on_plane.push_back(on_symmetry_plane(point, f));
-    directions.push_back(direction.norm() < 1e-9 ? Vec3::Zero() : Vec3(direction.normalized()));
-    reach.extend(on_plane.back());
-    reach.extend(Vec3(on_plane.back() - std::max(0.0, config.fringe_depth) * directions.back()));
-  }
-  const double margin = config.tip_edge_radius + retreat_step(config);
+  for (const auto& point : surface_points) reach.extend(on_plane.emplace_back(on_symmetry_plane(point, f)));
+  const double margin = depth + config.tip_edge_radius + retreat_step(config);
   reach.min().array() -= margin;
   reach.max().array() += margin;
   Points near;
@@ -276,17 +281,22 @@ std::vector<Vec3> edges_on_plane(const Points& points, const ToolFrame& f, const
     return static_cast<std::size_t>(std::count_if(about_line.begin(), about_line.end(),
                                                   [&](const Vec3& q) { return (q - centre).squaredNorm() <= r2; }));
   };
-  for (std::size_t i = 0; i < surface_points.size(); ++i) {
+  for (std::size_t i = 0; i < on_plane.size(); ++i) {
+    const Vec3& point = on_plane[i];
+    const Vec3 direction = outwards(surface_points[i], point, f, near, depth);
     double back = 0.0;
-    if (!directions[i].isZero()) {
-      const Vec3 back_end = on_plane[i] - retreat_steps(config) * retreat_step(config) * directions[i];
+    if (!direction.isZero()) {
+      const Vec3 back_end = point - retreat_steps(config) * retreat_step(config) * direction;
+      Eigen::AlignedBox3d around(point.cwiseMin(back_end), point.cwiseMax(back_end));
+      around.min().array() -= line_reach;
+      around.max().array() += line_reach;
       about_line.clear();
       for (const auto& q : near)
-        if (distance_to_segment(q, on_plane[i], back_end) <= line_reach) about_line.push_back(q);
-      back = retreat_along(on_plane[i], directions[i], config, count);
+        if (around.contains(q) && distance_to_segment(q, point, back_end) <= line_reach) about_line.push_back(q);
+      back = retreat_along(point, direction, config, count);
     }
     if (retreats) retreats->push_back(back);
-    edges.push_back(on_plane[i] - back * directions[i]);
+    edges.push_back(point - back * direction);
   }
   return edges;
 }

@@ -476,6 +476,38 @@ TEST(TooltipEdge, FringeRetreatsTowardsTheEdgeSharpEdgesAndThinPartsStay) {
   EXPECT_EQ(edge_retreat(KdTree(fringed), outermost, Vec3::UnitX(), off), 0.0);
 }
 
+// A fringe need not run the way the rule's score grows: smear below a head's edge (a rake's teeth, a hoe's
+// blade seen edge-on) runs along the handle, and the weighted rule, which also likes distance from the hand,
+// takes its lower end in front. Here a bar 1 cm tall ends at x = 6 cm, and below its front half hangs a
+// smear 15 mm deep, at most 0.4 of the bar's density and thinning downwards (the robot's reconstructions
+// are smeared so). Back along the rule's gradient (mostly along x) the way stays in the smear and the tip
+// 9-14 mm below the corner; back towards the surface's mass it reaches the bar's edge, a few millimetres
+// in from the corner where the corner's quarter density reaches half the bar's.
+TEST(TooltipEdge, SmearBelowAHeadRetreatsTowardsTheHeadNotAlongTheRule) {
+  const double front = 0.06, bottom = -0.26, smear = 0.015;
+  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+    Rng rng(seed);
+    Points tool;
+    for (double y = -0.07; y >= -0.25; y -= 0.001) tool.push_back(Vec3(0.0, y, 0.0));
+    for (double x = -0.04; x <= front + 1e-9; x += 0.001)
+      for (double y = bottom; y <= bottom + 0.01 + 1e-9; y += 0.001)
+        for (double z = -0.006; z <= 0.006 + 1e-9; z += 0.004)
+          tool.push_back(Vec3(x + rng.uniform(-0.0005, 0.0005), y + rng.uniform(-0.0005, 0.0005), z));
+    for (double x = 0.02; x <= front + 1e-9; x += 0.001)
+      for (double y = bottom - 0.001; y >= bottom - smear; y -= 0.001)
+        for (double z = -0.006; z <= 0.006 + 1e-9; z += 0.004)
+          if (rng.uniform() < 0.4 * (1.0 - (bottom - y) / smear))
+            tool.push_back(Vec3(x + rng.uniform(-0.0005, 0.0005), y, z));
+    ToolFrame frame;
+    frame.origin = Vec3(0.0, -0.2, 0.0);
+    frame.handle_point = Vec3(0.0, -0.1, 0.0);
+    const Tooltip tip = find_tooltip(tool, frame);
+    EXPECT_LT(tip.surface_point.y(), bottom - 0.008) << "seed " << seed << ": the rule takes the smear";
+    EXPECT_LT((tip.position - Vec3(front, bottom, 0.0)).norm(), 0.007)
+        << "seed " << seed << ", tip at " << tip.position.transpose();
+  }
+}
+
 // A scoop's tip is its far end: the point farthest from the hand, which is a rim's corner (off the
 // handle's line), projected onto the symmetry plane, so at the rim's height. A fringe 8 mm deep beyond the
 // middle of the far edge reaches farther from the hand than the corners do, but along the handle, within
